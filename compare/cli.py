@@ -1,0 +1,51 @@
+"""The command line: `python -m compare <command>`; each command lives in its own module.
+
+A command module has a one-line docstring (the help), `add_arguments(parser)` and
+`main(args) -> int` (the exit status: 0 ok, 1 outside tolerance, 2 bad input). Heavy
+imports (mujoco, matplotlib) stay inside `main` so that `--help` and `list` start fast.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+COMMANDS = {
+    "list": "compare.commands.list_scenes",
+    "run": "compare.commands.run",
+    "mjcf": "compare.commands.mjcf",
+    "sweep": "compare.commands.sweep",
+    "bench": "compare.commands.bench",
+    "play": "compare.commands.play",
+}
+
+EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python -m compare",
+        description="Compare a hand-written 2D contact simulator with its MuJoCo twin.")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, module_name in COMMANDS.items():
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError as exc:
+            if exc.name != module_name:
+                raise
+            continue  # a command not built yet
+        summary = (module.__doc__ or "").strip().splitlines()[0]
+        p = sub.add_parser(name, help=summary, description=module.__doc__,
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+        module.add_arguments(p)
+        p.set_defaults(_main=module.main)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    return args._main(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,38 @@
+"""Built-in scenes: the TOML files in scenarios/ (stress cases in scenarios/stress/)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from custom_sim import Scene, SceneError, load_scene
+
+SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
+GROUPS = {"builtin": SCENARIO_DIR, "stress": SCENARIO_DIR / "stress"}
+
+
+def builtin_paths(group: str = "builtin") -> list[Path]:
+    return sorted(GROUPS[group].glob("*.toml"))
+
+
+def builtin_names(group: str = "builtin") -> list[str]:
+    return [p.stem for p in builtin_paths(group)]
+
+
+def resolve(spec: str) -> Path:
+    """A built-in name (either group) or a path to a scene file."""
+    for folder in GROUPS.values():
+        candidate = folder / f"{spec}.toml"
+        if candidate.is_file():
+            return candidate
+    path = Path(spec)
+    if path.suffix == ".toml" or path.exists() or "/" in spec:
+        return path
+    known = ", ".join(builtin_names() + builtin_names("stress"))
+    raise SceneError(spec, "", f"unknown scenario (expected a built-in name: {known}; or a path to a .toml file)")
+
+
+def load(spec: str) -> Scene:
+    return load_scene(resolve(spec))
+
+
+def load_builtins(group: str = "builtin") -> list[Scene]:
+    return [load_scene(p) for p in builtin_paths(group)]

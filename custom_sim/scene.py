@@ -1,0 +1,345 @@
+"""Scene files: the TOML schema of CONTRACT.md loaded into frozen dataclasses.
+
+Every error is a `SceneError` naming the file, the field (dotted path) and what was
+expected. Unknown keys are errors, so a typo such as `mus = 0.5` never passes silently.
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+INTEGRATORS = ("explicit_euler", "semi_implicit_euler", "implicit_euler", "rk4")
+EFFECTS = ("gravity", "contact", "friction", "rolling_friction")
+SHAPES = ("point", "box", "compound", "circle")
+DAMPING_LAWS = ("compression", "linear")
+SOLREF_MAPPINGS = ("penalty", "physical", "seed")
+MUJOCO_INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
+CONES = ("elliptic", "pyramidal")
+
+
+class SceneError(ValueError):
+    """Bad scene input: `file: field: message`."""
+
+    def __init__(self, file: str, field: str, message: str):
+        self.file, self.field, self.message = file, field, message
+        where = f"{file}: {field}: " if field else f"{file}: "
+        super().__init__(where + message)
+
+
+@dataclass(frozen=True)
+class Part:
+    """One box of a compound body: size (w, h) in m, centre offset in the body frame (m), mass (kg)."""
+
+    size: tuple[float, float]
+    offset: tuple[float, float]
+    mass: float
+
+
+@dataclass(frozen=True)
+class Body:
+    """The body's geometry and mass; only the fields of its shape are set (others None)."""
+
+    shape: str
+    mass: float
+    size: tuple[float, float] | None = None
+    radius: float | None = None
+    contact_height: float | None = None
+    parts: tuple[Part, ...] | None = None
+
+
+@dataclass(frozen=True)
+class Contact:
+    """Penalty contact: k (N/m), c (N s/m), mu (-), alpha (s/m), mu_roll (m)."""
+
+    k: float = 1e4
+    c: float = 20.0
+    damping_law: str = "compression"
+    mu: float = 0.5
+    alpha: float = 100.0
+    mu_roll: float = 0.0
+
+
+@dataclass(frozen=True)
+class Initial:
+    """Initial state of the centre of mass: position (m), velocity (m/s), angle (rad), rate (rad/s)."""
+
+    position: tuple[float, float]
+    velocity: tuple[float, float] = (0.0, 0.0)
+    angle: float = 0.0
+    angular_velocity: float = 0.0
+
+
+@dataclass(frozen=True)
+class MujocoSettings:
+    """How the MuJoCo twin is built and run; dt None means the scene's dt."""
+
+    solref: str = "penalty"
+    integrator: str = "Euler"
+    cone: str = "elliptic"
+    dt: float | None = None
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """Optional override of the comparison tolerance (m, rad) with the physics behind it."""
+
+    position: float | None = None
+    angle: float | None = None
+    reason: str = ""
+
+
+@dataclass(frozen=True)
+class Scene:
+    name: str
+    duration: float
+    dt: float
+    body: Body
+    initial: Initial
+    description: str = ""
+    integrator: str = "semi_implicit_euler"
+    effects: tuple[str, ...] = ("gravity", "contact", "friction")
+    g: float = 9.81
+    contact: Contact = field(default_factory=Contact)
+    mujoco: MujocoSettings = field(default_factory=MujocoSettings)
+    tolerance: Tolerance = field(default_factory=Tolerance)
+    source: str = "<memory>"
+
+    @property
+    def steps(self) -> int:
+        """Number of steps: duration / dt rounded to the nearest whole step."""
+        return max(1, int(round(self.duration / self.dt)))
+
+    def has(self, effect: str) -> bool:
+        return effect in self.effects
+
+
+# ---------------------------------------------------------------------------------------
+# Loading and validation
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a scene file; raises SceneError naming file, field and expectation."""
+    path = Path(path)
+    file = str(path)
+    if not path.exists():
+        raise SceneError(file, "", "no such file (expected a path to a .toml scene file)")
+    if path.is_dir():
+        raise SceneError(file, "", "is a folder (expected a path to a .toml scene file)")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SceneError(file, "", f"cannot be read ({exc}); expected a UTF-8 TOML file") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(file, "", f"is not valid TOML ({exc})") from None
+    return parse_scene(data, file=file, default_name=path.stem)
+
+
+def parse_scene(data: dict[str, Any], file: str = "<memory>", default_name: str = "scene") -> Scene:
+    """Validate a scene given as a dict (the parsed TOML)."""
+    v = _Validator(file)
+    top = v.table(data, "", {
+        "name", "description", "duration", "dt", "integrator", "effects", "g",
+        "body", "contact", "initial", "mujoco", "tolerance"})
+    duration = v.positive(top, "duration", required=True)
+    dt = v.positive(top, "dt", required=True)
+    if dt > duration:
+        raise SceneError(file, "dt", f"{dt} s is larger than duration {duration} s (expected dt <= duration)")
+    effects = v.effects(top)
+    body = _parse_body(v, v.table(top.get("body"), "body", None, required=True), effects)
+    contact = _parse_contact(v, v.table(top.get("contact", {}), "contact",
+                                        {"k", "c", "damping_law", "mu", "alpha", "mu_roll"}))
+    initial = _parse_initial(v, v.table(top.get("initial"), "initial",
+                                        {"position", "velocity", "angle", "angular_velocity"}, required=True))
+    if body.shape == "point" and (initial.angle != 0.0 or initial.angular_velocity != 0.0):
+        raise SceneError(file, "initial.angle", "a point mass does not rotate (expected angle and angular_velocity 0)")
+    mj = v.table(top.get("mujoco", {}), "mujoco", {"solref", "integrator", "cone", "dt"})
+    mujoco = MujocoSettings(
+        solref=v.choice(mj, "solref", SOLREF_MAPPINGS, "penalty", "mujoco."),
+        integrator=v.choice(mj, "integrator", MUJOCO_INTEGRATORS, "Euler", "mujoco."),
+        cone=v.choice(mj, "cone", CONES, "elliptic", "mujoco."),
+        dt=v.positive(mj, "dt", prefix="mujoco."),
+    )
+    tol = v.table(top.get("tolerance", {}), "tolerance", {"position", "angle", "reason"})
+    tolerance = Tolerance(
+        position=v.positive(tol, "position", prefix="tolerance."),
+        angle=v.positive(tol, "angle", prefix="tolerance."),
+        reason=v.string(tol, "reason", "", "tolerance."),
+    )
+    return Scene(
+        name=v.string(top, "name", default_name),
+        description=v.string(top, "description", ""),
+        duration=duration,
+        dt=dt,
+        integrator=v.choice(top, "integrator", INTEGRATORS, "semi_implicit_euler"),
+        effects=effects,
+        g=v.number(top, "g", 9.81, minimum=0.0),
+        body=body,
+        contact=contact,
+        initial=initial,
+        mujoco=mujoco,
+        tolerance=tolerance,
+        source=file,
+    )
+
+
+_SHAPE_FIELDS = {
+    "point": {"shape", "mass", "contact_height"},
+    "box": {"shape", "mass", "size"},
+    "compound": {"shape", "mass", "parts"},
+    "circle": {"shape", "mass", "radius"},
+}
+
+
+def _parse_body(v: _Validator, b: dict, effects: tuple[str, ...]) -> Body:
+    shape = v.choice(b, "shape", SHAPES, None, "body.")
+    for key in b:
+        if key not in _SHAPE_FIELDS[shape]:
+            allowed = ", ".join(sorted(_SHAPE_FIELDS[shape]))
+            raise SceneError(v.file, f"body.{key}", f"does not belong to shape '{shape}' (expected one of: {allowed})")
+    if "rolling_friction" in effects and shape != "circle":
+        raise SceneError(v.file, "effects", f"rolling_friction acts on a rolling circle (body.shape is '{shape}')")
+    if shape == "compound":
+        raw = b.get("parts")
+        if not isinstance(raw, list) or not raw:
+            raise SceneError(v.file, "body.parts", "expected a non-empty list of {size, offset, mass} tables")
+        parts = []
+        for i, p in enumerate(raw):
+            where = f"body.parts[{i}]."
+            p = v.table(p, where[:-1], {"size", "offset", "mass"}, required=True)
+            parts.append(Part(size=v.pair(p, "size", where, positive=True, required=True),
+                              offset=v.pair(p, "offset", where, required=True),
+                              mass=v.positive(p, "mass", prefix=where, required=True)))
+        total = sum(p.mass for p in parts)
+        mass = v.positive(b, "mass", prefix="body.")
+        if mass is not None and not math.isclose(mass, total, rel_tol=1e-9):
+            raise SceneError(v.file, "body.mass", f"{mass} kg differs from the sum of the parts {total} kg (expected equal, or omit it)")
+        return Body(shape=shape, mass=total, parts=tuple(parts))
+    mass = v.positive(b, "mass", prefix="body.", required=True)
+    if shape == "box":
+        return Body(shape=shape, mass=mass, size=v.pair(b, "size", "body.", positive=True, required=True))
+    if shape == "circle":
+        return Body(shape=shape, mass=mass, radius=v.positive(b, "radius", prefix="body.", required=True))
+    return Body(shape=shape, mass=mass, contact_height=v.number(b, "contact_height", 0.0, "body.", minimum=0.0))
+
+
+def _parse_contact(v: _Validator, c: dict) -> Contact:
+    d = Contact()
+    return Contact(
+        k=v.positive(c, "k", d.k, "contact."),
+        c=v.number(c, "c", d.c, "contact.", minimum=0.0),
+        damping_law=v.choice(c, "damping_law", DAMPING_LAWS, d.damping_law, "contact."),
+        mu=v.number(c, "mu", d.mu, "contact.", minimum=0.0),
+        alpha=v.positive(c, "alpha", d.alpha, "contact."),
+        mu_roll=v.number(c, "mu_roll", d.mu_roll, "contact.", minimum=0.0),
+    )
+
+
+def _parse_initial(v: _Validator, i: dict) -> Initial:
+    return Initial(
+        position=v.pair(i, "position", "initial.", required=True),
+        velocity=v.pair(i, "velocity", "initial.", default=(0.0, 0.0)),
+        angle=v.number(i, "angle", 0.0, "initial."),
+        angular_velocity=v.number(i, "angular_velocity", 0.0, "initial."),
+    )
+
+
+class _Validator:
+    """Typed field readers that raise SceneError with the file and dotted field name."""
+
+    def __init__(self, file: str):
+        self.file = file
+
+    def fail(self, name: str, message: str):
+        raise SceneError(self.file, name, message)
+
+    def table(self, value, name: str, allowed: set[str] | None, required: bool = False) -> dict:
+        if value is None:
+            if required:
+                self.fail(name, "missing (expected a table)")
+            return {}
+        if not isinstance(value, dict):
+            self.fail(name or "<top>", f"expected a table, got {type(value).__name__}")
+        if allowed is not None:
+            for key in value:
+                if key not in allowed:
+                    full = f"{name}.{key}" if name else key
+                    self.fail(full, f"unknown field (expected one of: {', '.join(sorted(allowed))})")
+        return value
+
+    def number(self, t: dict, key: str, default=None, prefix: str = "", minimum: float | None = None,
+               required: bool = False):
+        name = prefix + key
+        if key not in t:
+            if required:
+                self.fail(name, "missing (expected a number)")
+            return default
+        x = t[key]
+        if isinstance(x, bool) or not isinstance(x, (int, float)):
+            self.fail(name, f"expected a number, got {type(x).__name__} {x!r}")
+        x = float(x)
+        if not math.isfinite(x):
+            self.fail(name, f"expected a finite number, got {x}")
+        if minimum is not None and x < minimum:
+            self.fail(name, f"expected a number >= {minimum}, got {x}")
+        return x
+
+    def positive(self, t: dict, key: str, default=None, prefix: str = "", required: bool = False):
+        x = self.number(t, key, default, prefix, required=required)
+        if x is not None and x <= 0.0:
+            self.fail(prefix + key, f"expected a number > 0, got {x}")
+        return x
+
+    def pair(self, t: dict, key: str, prefix: str = "", default=None, positive: bool = False,
+             required: bool = False) -> tuple[float, float]:
+        name = prefix + key
+        if key not in t:
+            if required:
+                self.fail(name, "missing (expected a list of two numbers)")
+            return default
+        x = t[key]
+        if not isinstance(x, list) or len(x) != 2:
+            self.fail(name, f"expected a list of two numbers, got {x!r}")
+        out = tuple(self.number({key: e}, key, prefix=prefix) for e in x)
+        if positive and min(out) <= 0.0:
+            self.fail(name, f"expected two numbers > 0, got {list(out)}")
+        return out
+
+    def string(self, t: dict, key: str, default: str, prefix: str = "") -> str:
+        if key not in t:
+            return default
+        x = t[key]
+        if not isinstance(x, str):
+            self.fail(prefix + key, f"expected a string, got {type(x).__name__} {x!r}")
+        return x
+
+    def choice(self, t: dict, key: str, options: tuple[str, ...], default, prefix: str = "") -> str:
+        name = prefix + key
+        if key not in t:
+            if default is None:
+                self.fail(name, f"missing (expected one of: {', '.join(options)})")
+            return default
+        x = t[key]
+        if x not in options:
+            self.fail(name, f"unknown value {x!r} (expected one of: {', '.join(options)})")
+        return x
+
+    def effects(self, t: dict) -> tuple[str, ...]:
+        if "effects" not in t:
+            return ("gravity", "contact", "friction")
+        x = t["effects"]
+        if not isinstance(x, list) or not all(isinstance(e, str) for e in x):
+            self.fail("effects", f"expected a list of strings, got {x!r}")
+        for e in x:
+            if e not in EFFECTS:
+                self.fail("effects", f"unknown effect {e!r} (expected a subset of: {', '.join(EFFECTS)})")
+        if len(set(x)) != len(x):
+            self.fail("effects", f"lists an effect twice: {x}")
+        for needs in ("friction", "rolling_friction"):
+            if needs in x and "contact" not in x:
+                self.fail("effects", f"{needs} acts through contact (expected 'contact' in the list too)")
+        return tuple(e for e in EFFECTS if e in x)  # canonical order
