@@ -166,20 +166,29 @@ def rk4_step(model, points, z, h, fx, fy, tau, counters, work):
 
 
 @njit(cache=True, inline="always")
-def is_healthy(z, position_limit, speed_limit):
+def is_healthy(z, guard):
+    """False once the state has blown up: non-finite, beyond the position or speed limit, or
+    with more energy than the scene could ever have. guard = (mass kg, inertia kg m^2, g m/s^2,
+    lowest COM height m, energy limit J, position limit m, speed limit m/s)."""
     for j in range(6):
         if not np.isfinite(z[j]):
             return False
-    return (abs(z[0]) < position_limit and abs(z[1]) < position_limit
-            and abs(z[3]) < speed_limit and abs(z[4]) < speed_limit and abs(z[5]) < speed_limit)
+    mass, inertia, g, y_low, energy_limit, position_limit, speed_limit = guard
+    if abs(z[0]) > position_limit or abs(z[1]) > position_limit:
+        return False
+    if abs(z[3]) > speed_limit or abs(z[4]) > speed_limit or abs(z[5]) > speed_limit:
+        return False
+    # kinetic + gravitational energy above the lowest pose: never above its start without input
+    energy = 0.5 * mass * (z[3] * z[3] + z[4] * z[4]) + 0.5 * inertia * z[5] * z[5] + mass * g * (z[1] - y_low)
+    return energy <= energy_limit
 
 
 @njit(cache=True)
-def integrate(model, points, z, h, n, method, ext, out, counters, position_limit, speed_limit):
+def integrate(model, points, z, h, n, method, ext, out, counters, guard):
     """Advance z by n steps of size h (s), writing the state after step i to out[i] when
     out has n rows (out with 0 rows records nothing). ext: (1, 3) constant or (n, 3) per
     step applied (Fx, Fy, tau). Returns -1, or the 1-based step at which the state left the
-    healthy range (non-finite, or beyond the limits), with z left at that state."""
+    healthy range (see is_healthy), with z left at that state."""
     work = np.zeros((16, 6))
     record = out.shape[0] == n
     row = 0
@@ -199,6 +208,6 @@ def integrate(model, points, z, h, n, method, ext, out, counters, position_limit
         if record:
             for j in range(6):
                 out[i, j] = z[j]
-        if not is_healthy(z, position_limit, speed_limit):
+        if not is_healthy(z, guard):
             return i + 1
     return -1
