@@ -1,0 +1,90 @@
+"""Run scenarios in both simulators and write the comparison report.
+
+SCENE is a built-in name (see `list`) or a path to a scene file; without SCENE every
+built-in scenario runs. Writes DIR/index.md and DIR/<name>/ (metrics.json, trajectory
+CSVs, model.xml, plots). Exit status: 0 all within tolerance, 1 one outside it (or
+diverged: no report is written for that scenario), 2 bad input (nothing is written).
+"""
+from __future__ import annotations
+
+import os
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+from custom_sim import SceneError
+
+from ..scenarios import builtin_paths, load
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("scenes", nargs="*", metavar="SCENE", help="built-in name or path to a .toml (default: all built-ins)")
+    parser.add_argument("--out", default="reports", metavar="DIR", help="output folder (default: reports/)")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="scenarios run at once (default: every core)")
+
+
+def run_one(scene):
+    """Worker: run, compare and write one scenario; returns (row or None, divergence message)."""
+    from mujoco_models import to_mjcf
+
+    from ..comparison import run_scenario
+    from ..report import write_scenario
+
+    result = run_scenario(scene)
+    if result.error:
+        return None, result.error
+    return write_scenario(result, Path(OUT), to_mjcf(scene)), None
+
+
+OUT = "reports"
+
+
+def _init(out: str) -> None:
+    global OUT
+    OUT = out
+
+
+def main(args) -> int:
+    try:
+        specs = args.scenes or [str(p) for p in builtin_paths()]
+        scenes = [load(spec) for spec in specs]
+    except SceneError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    names = [s.name for s in scenes]
+    for name in set(names):
+        if names.count(name) > 1:
+            print(f"error: two scenes are named '{name}' (expected distinct names: set `name` in one file)", file=sys.stderr)
+            return 2
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        print(f"error: {out}: --out: is a file (expected a folder)", file=sys.stderr)
+        return 2
+    out.mkdir(parents=True, exist_ok=True)
+
+    from tqdm import tqdm
+
+    from ..report import write_index
+
+    rows, failures = {}, []
+    jobs = max(1, min(args.jobs, len(scenes)))
+    with ProcessPoolExecutor(jobs, initializer=_init, initargs=(str(out),)) as pool:
+        futures = {pool.submit(run_one, s): s.name for s in scenes}
+        for future in tqdm(futures, desc="scenarios", unit="scene", delay=2, file=sys.stderr):
+            name = futures[future]
+            row, error = future.result()
+            if row is None:
+                failures.append((name, error))
+                print(f"error: {error}", file=sys.stderr)
+            else:
+                rows[name] = row
+    ordered = [rows[n] for n in names if n in rows]
+    index = write_index(out, ordered, failures)
+    for r in ordered:
+        verdict = "pass" if r["pass"] else "FAIL"
+        print(f"{r['name']:<20} {verdict:<5} position {r['position_error_max']:.3e} m "
+              f"(tolerance {r['tolerance']['position']:.3e} m), angle {r['angle_error_max']:.3e} rad")
+    for name, _ in failures:
+        print(f"{name:<20} diverged: no report written")
+    print(f"report: {index}")
+    return 0 if not failures and all(r["pass"] for r in ordered) else 1
