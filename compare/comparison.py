@@ -1,6 +1,7 @@
 """One scenario, both simulators: run, measure, judge. The report is written from its result."""
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 from custom_sim import Scene, SimulationDiverged, Trajectory, simulate, stable_step
@@ -19,6 +20,7 @@ class Result:
     tolerance: tolerance.Tolerance | None = None
     passed: bool = False
     error: str | None = None                          # divergence: why no report was written
+    ablation: dict | None = None                      # the same comparison with friction off
 
     @property
     def status(self) -> str:
@@ -60,7 +62,23 @@ def run_scenario(scene: Scene) -> Result:
             result.metrics = row
             result.tolerance = tol
     result.passed = tolerance.judge(result.tolerance, result.metrics)
+    if scene.has("friction") and result.tolerance.checked:
+        result.ablation = without_friction(scene)
+        result.passed = result.passed and result.ablation["pass"]
     return result
+
+
+def without_friction(scene: Scene) -> dict:
+    """Both simulators again with friction (and rolling resistance) off: what the two models
+    share must then agree within the tolerance left when the friction terms are dropped."""
+    from mujoco_models import simulate_mujoco
+
+    bare = dataclasses.replace(scene, effects=tuple(e for e in scene.effects if "friction" not in e))
+    row = metrics.compare(simulate(bare), simulate_mujoco(bare))
+    tol = tolerance.derive(bare)
+    row.update(tolerance_position=tol.position, tolerance_angle=tol.angle, reason=tol.reason,
+               effects=list(bare.effects), **{"pass": tolerance.judge(tol, row)})
+    return row
 
 
 def metrics_json(result: Result) -> dict:
@@ -102,4 +120,5 @@ def metrics_json(result: Result) -> dict:
         "mujoco_integrator": twin.integrator,
         "mujoco_dt": twin.dt,
         "mappings": result.by_mapping,
+        "without_friction": result.ablation,
     }

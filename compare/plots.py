@@ -94,7 +94,7 @@ def energy(scene: Scene, a: Trajectory, b: Trajectory, path: Path) -> str:
 def snapshots(scene: Scene, a: Trajectory, b: Trajectory, path: Path, count: int = 6) -> str:
     """The body drawn by both simulators at `count` instants, side by side in a strip."""
     times = np.linspace(0.0, min(a.t[-1], b.t[-1]), count)
-    fig, axes = plt.subplots(1, count, figsize=(2.2 * count, 2.8), sharey=True)
+    fig, axes = plt.subplots(1, count, figsize=(2.2 * count, 3.2), sharey=True)
     extent = max(0.15, float(np.ptp(np.concatenate([a.y, b.y]))) / 2 + 0.15)
     for ax, t in zip(axes, times):
         for tr in (a, b):

@@ -23,6 +23,11 @@ TERM_CAUSES = {
                    "MuJoCo damps both ways, clamped at zero, so its body rebounds lower and lands at other times.",
     "friction": "MuJoCo's friction (penalty mapping) is viscous, capped at mu Fn; ours is mu Fn tanh(alpha v): "
                 "both brake at mu g while sliding fast, and part in the slow tail before the body stops.",
+    "impact friction": "when a corner lands, its slip passes through zero; there ours grips within 1/alpha "
+                       "of zero slip and MuJoCo's viscous row within mu Fn / c_t, which is wider at impact forces, "
+                       "so the body leaves each landing with a slightly different spin and slide.",
+    "rolling": "MuJoCo's rolling resistance shares one friction cone with sliding: while the disk slides it is "
+               "about zero, ours is mu_roll Fn from the start, so ours rolls away a little slower.",
 }
 
 
@@ -158,6 +163,18 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
     for note in twin.meta.get("approximations", []):
         lines.append(f"- {note}")
     lines += ["", f"Tolerance: {tol.reason}.", ""]
+    ab = result.ablation
+    if ab:
+        lines += [
+            "### With friction off",
+            "",
+            f"The same scene run in both simulators with effects {', '.join(ab['effects'])}: the largest position "
+            f"difference is {_fmt(ab['position_error_max'], ' m')} (tolerance {_fmt(ab['tolerance_position'], ' m')}), "
+            f"the largest angle difference {_fmt(ab['angle_error_max'], ' rad')} "
+            f"(tolerance {_fmt(ab['tolerance_angle'], ' rad')}): **{'pass' if ab['pass'] else 'FAIL'}**. "
+            "What remains with friction on is the difference between the two friction laws.",
+            "",
+        ]
     return "\n".join(lines)
 
 

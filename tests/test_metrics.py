@@ -100,7 +100,10 @@ def test_tolerance_terms_follow_the_physics():
     # dropped from 0.6 m with contact_height 0.05: H = 0.55 m; zeta = 60 / (2 sqrt(1e4)) = 0.3
     e_c = tolerance.compression_restitution(0.3)
     assert tol.terms["damping law"] == pytest.approx(0.55 * e_c**2)
-    assert tol.terms["switching"] == pytest.approx(2 * (math.sqrt(2 * 9.81 * 0.55) + 1.0) * 1e-4)
+    v_max = math.sqrt(1.0 + 2 * 9.81 * 0.55)  # sideways 1 m/s and the fall's speed
+    assert tol.terms["switching"] == pytest.approx(2 * v_max * 1e-4)
+    assert tol.terms["impedance"] == pytest.approx(1e-4 * (v_max * 2.5 + 0.55))
+    assert "impact friction" not in tol.terms  # a point's contact does not turn
     assert tol.checked and not tolerance.derive(point, "seed").checked
     # a linear-law scene has no damping-law term
     lin = dataclasses.replace(point, contact=dataclasses.replace(point.contact, damping_law="linear"))
