@@ -31,14 +31,13 @@ class Result:
 
 def run_scenario(scene: Scene) -> Result:
     """Run the scene in custom_sim and in MuJoCo with every solref mapping; compare."""
-    from mujoco_models import simulate_mujoco
-
     result = Result(scene)
     try:
         custom = simulate(scene)
     except SimulationDiverged as exc:
         result.error = str(exc)
         return result
+    from mujoco_models import simulate_mujoco
     result.custom = custom
     own = scene.mujoco.solref
     for mapping in (own,) + tuple(m for m in SOLREF_MAPPINGS if m != own):

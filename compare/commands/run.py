@@ -25,14 +25,14 @@ def add_arguments(parser) -> None:
 
 def run_one(scene):
     """Worker: run, compare and write one scenario; returns (row or None, divergence message)."""
-    from mujoco_models import to_mjcf
-
     from ..comparison import run_scenario
     from ..report import write_scenario
 
     result = run_scenario(scene)
     if result.error:
         return None, result.error
+    from mujoco_models import to_mjcf
+
     return write_scenario(result, Path(OUT), to_mjcf(scene)), None
 
 
