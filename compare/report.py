@@ -17,12 +17,14 @@ from . import metrics, plots
 from .comparison import Result, metrics_json
 
 TERM_CAUSES = {
-    "impedance": "MuJoCo applies the penalty force through an impedance of 0.9999, a 1e-4 relative force error.",
+    "impedance": "MuJoCo's penalty row reproduces k d + c v up to a relative 1e-4 (its impedance d = 1e-4 times "
+                 "the gap between the contact's true inverse inertia and the constant A_hat it is scaled by).",
     "switching": "each simulator starts and ends a contact on its own step grid, so a switch can lag by a step.",
     "damping law": "the scene damps only while the body approaches the ground (the seed's compression law); "
                    "MuJoCo damps both ways, clamped at zero, so its body rebounds lower and lands at other times.",
-    "friction": "MuJoCo's friction (penalty mapping) is viscous, capped at mu Fn; ours is mu Fn tanh(alpha v): "
-                "both brake at mu g while sliding fast, and part in the slow tail before the body stops.",
+    "friction": "MuJoCo's friction (penalty mapping) is viscous with tanh's slope at rest, capped at mu Fn; ours "
+                "is mu Fn tanh(alpha v): both brake at mu g while sliding fast, and part in the slow tail before "
+                "the body stops.",
     "impact friction": "when a corner lands, its slip passes through zero; there ours grips within 1/alpha "
                        "of zero slip and MuJoCo's viscous row within mu Fn / c_t, which is wider at impact forces, "
                        "so the body leaves each landing with a slightly different spin and slide.",

@@ -2,20 +2,23 @@
 
 Each term is a difference the physics predicts, with its cause written down beside it:
 
-  impedance    MuJoCo's penalty row applies d (k r + c v) with impedance d = 0.9999, a
-               relative force error of 1e-4 on every impulse: velocities differ by up to 1e-4
-               of the largest speed the scene's energy allows, v_max = sqrt(v0^2 + 2 g H), and
-               positions by 1e-4 v_max T over the run (PHYSICS.md measured 1e-4 m on a box).
+  impedance    MuJoCo's penalty row (flat impedance d = 1e-4, solref scaled by A_hat) applies
+               our k r + c v up to a relative d |A / A_hat - 1| (A the contact's true inverse
+               inertia): a few 1e-4, taken as 1e-4 on every impulse. Velocities then differ by
+               up to 1e-4 of the largest speed the energy allows, v_max = sqrt(v0^2 + 2 g H),
+               and positions by 1e-4 v_max T over the run (PHYSICS.md: 1e-4 m on a box).
   switching    contact starts and ends on each simulator's own step grid: a switch can be late
                by one step in either, so positions differ by up to 2 v_impact dt.
   damping law  MuJoCo damps both ways, clamped at zero (our "linear" law). With the seed's
                "compression" law the body rebounds higher: e_c vs e_l (tests/test_restitution.py
                derives both). After the first landing the two bounce to different heights and
                land at different times, so they differ by up to the first rebound height H e_c^2.
-  friction     with the penalty mapping MuJoCo's friction is viscous (c per contact) capped by
-               mu Fn, ours mu Fn tanh(alpha v). Both brake at mu g while sliding fast; they part
-               in the slow tail: a viscous tail from v* = mu g m / (n c) runs v* m / (n c), a
-               Coulomb stop v*^2 / (2 mu g): half of it, mu g (m / (n c))^2 / 2, is the gap.
+  friction     with the penalty mapping MuJoCo's friction row is viscous, c_t = mu alpha N_ref
+               (N_ref = m g / n, the resting load of each of n points: tanh's slope at rest),
+               capped by mu Fn; ours is mu Fn tanh(alpha v). Both brake at mu g while sliding
+               fast and enter their linear range at v* = 1/alpha; there a viscous tail runs
+               v* / (mu g alpha) = 1 / (mu g alpha^2), a Coulomb stop half that: the gap is
+               1 / (2 mu g alpha^2).
   impact       for a body whose corners turn (box, compound) the slip of a landing corner passes
   friction     through zero during the impact, where the two friction laws part: ours within
                1/alpha of zero slip, MuJoCo's (viscous, c_t = mu alpha N_ref with N_ref the resting
@@ -44,7 +47,7 @@ import numpy as np
 from custom_sim import Scene, mass_properties
 from custom_sim.bodies import contact_points_world, min_effective_mass
 
-IMPEDANCE_ERROR = 1e-4   # 1 - d for d0 = dwidth = 0.9999 (flat solimp of the penalty mapping)
+IMPEDANCE_ERROR = 1e-4   # relative force error d |A / A_hat - 1| of the penalty mapping (d = 1e-4)
 SWITCH_STEPS = 2.0       # steps a contact switch may lag, one per simulator
 ANGLE_FLOOR = 1e-6       # rad: for bodies that never turn both angles are exactly 0
 
@@ -90,10 +93,10 @@ def derive(scene: Scene, mapping: str | None = None) -> Tolerance:
         if ct.damping_law == "compression" and ct.c > 0 and height > 0:
             zeta = ct.c / (2 * math.sqrt(ct.k * props.mass))
             terms["damping law"] = height * compression_restitution(zeta) ** 2
-        if scene.has("friction") and ct.c > 0:
-            g = scene.g if scene.has("gravity") else 0.0
-            n = 2 if scene.body.shape in ("box", "compound") else 1  # points carrying the weight at rest
-            terms["friction"] = ct.mu * g * (props.mass / (n * ct.c)) ** 2 / 2
+        g = scene.g if scene.has("gravity") else 0.0
+        n = 2 if scene.body.shape in ("box", "compound") else 1  # points carrying the weight at rest
+        if scene.has("friction") and ct.mu > 0 and g > 0:
+            terms["friction"] = 1.0 / (2 * ct.mu * g * ct.alpha**2)
             if props.points_rotate and v_impact > 0 and g > 0:
                 d_max = v_impact * math.sqrt(min_effective_mass(props) / ct.k)
                 v_w = ct.k * d_max * n / (ct.alpha * props.mass * g)

@@ -1,0 +1,163 @@
+"""Scene -> MuJoCo model, built with mujoco.MjSpec (no XML templates), and its MJCF.
+
+    build_spec(scene, solref)   the MjSpec (compiled once: A_hat comes from the compiled model)
+    build_model(scene, solref)  the compiled MjModel
+    to_mjcf(scene, solref)      MjSpec.to_xml(): loads with mujoco.MjModel.from_xml_path
+
+No geom collides on its own (contype = conaffinity = 0 everywhere): every contact is an
+explicit <pair> of the ground with one contact geom, carrying condim, friction, solref, solimp
+and solreffriction, so nothing is left to MuJoCo's mixing rules. A scene without the contact
+effect gets no pair at all; effects.py says what the other effects become.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+
+from custom_sim.bodies import MassProperties, mass_properties
+from custom_sim.scene import Scene
+
+from .effects import condim_for, friction_for, gravity_vector, pair_friction
+from .frames import qpos_qvel
+from .geometry import CONTACT_GROUP, VISUAL_GROUP, GeomPlan, contact_geoms, visual_geoms
+from .inertial import Inertial, derived_inertial
+from .solref import ContactParameters, a_hat, contact_parameters
+
+INTEGRATORS = {
+    "Euler": mujoco.mjtIntegrator.mjINT_EULER,
+    "RK4": mujoco.mjtIntegrator.mjINT_RK4,
+    "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
+    "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+}
+CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL}
+GEOM_TYPES = {"sphere": mujoco.mjtGeom.mjGEOM_SPHERE, "box": mujoco.mjtGeom.mjGEOM_BOX,
+              "cylinder": mujoco.mjtGeom.mjGEOM_CYLINDER, "plane": mujoco.mjtGeom.mjGEOM_PLANE}
+BODY = "body"      # the moving body (id 1: the world is 0)
+GROUND = "ground"
+GROUND_SIZE = (0.0, 0.0, 0.05)  # an infinite plane; 0.05 m grid spacing in the viewer
+GROUND_RGBA = (0.8, 0.8, 0.8, 1.0)
+CONTACT_RGBA = (0.9, 0.2, 0.2, 1.0)
+SHAPE_RGBA = (0.3, 0.5, 0.8, 1.0)
+
+
+@dataclass(frozen=True)
+class Twin:
+    """A built twin: the spec and every choice that went into it."""
+
+    spec: mujoco.MjSpec
+    scene: Scene
+    props: MassProperties
+    inertial: Inertial
+    contact: ContactParameters
+    condim: int
+    friction: tuple[float, float, float]
+    integrator: str
+    cone: str
+    dt: float
+    n_pairs: int
+
+
+def resolve_settings(scene: Scene, integrator: str | None = None, dt: float | None = None):
+    """(integrator, dt) with the scene's [mujoco] table as default (dt: mujoco.dt, else scene.dt)."""
+    integrator = integrator or scene.mujoco.integrator
+    if integrator not in INTEGRATORS:
+        raise ValueError(f"unknown MuJoCo integrator {integrator!r} (expected one of: {', '.join(INTEGRATORS)})")
+    dt = dt or scene.mujoco.dt or scene.dt
+    if not dt > 0.0:
+        raise ValueError(f"dt must be > 0 s, got {dt}")
+    return integrator, float(dt)
+
+
+def build_twin(scene: Scene, solref: str | None = None, *, integrator: str | None = None,
+               dt: float | None = None) -> Twin:
+    """Build the scene's twin; solref: penalty | physical | seed (default scene.mujoco.solref)."""
+    mapping = solref or scene.mujoco.solref
+    integrator, dt = resolve_settings(scene, integrator, dt)
+    props = mass_properties(scene.body)
+    inertial = derived_inertial(scene.body, props)
+
+    spec = mujoco.MjSpec()
+    spec.modelname = scene.name
+    spec.comment = _header(scene, mapping)
+    spec.option.timestep = dt
+    spec.option.integrator = INTEGRATORS[integrator]
+    spec.option.cone = CONES[scene.mujoco.cone]
+    spec.option.gravity = list(gravity_vector(scene))
+
+    _add_geom(spec.worldbody, GeomPlan(GROUND, "plane", GROUND_SIZE, (0.0, 0.0, 0.0)), 0, GROUND_RGBA)
+    body = spec.worldbody.add_body(name=BODY)
+    body.explicitinertial = True
+    body.mass = inertial.mass
+    body.ipos = list(inertial.pos)
+    body.inertia = list(inertial.diaginertia)
+    body.add_joint(name="x", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[1.0, 0.0, 0.0])
+    body.add_joint(name="y", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0.0, 0.0, 1.0])
+    if props.rotates:
+        body.add_joint(name="theta", type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0.0, -1.0, 0.0],
+                       pos=list(inertial.pos))
+    contacts = contact_geoms(scene.body, props)
+    for plan in contacts:
+        _add_geom(body, plan, CONTACT_GROUP, CONTACT_RGBA)
+    for plan in visual_geoms(scene.body):
+        _add_geom(body, plan, VISUAL_GROUP, SHAPE_RGBA)
+
+    # A_hat depends on the mass matrix only: compile once, then write the contact pairs.
+    model = spec.compile()
+    params = contact_parameters(scene, mapping, a_hat(model, model.body(BODY).id), dt, props)
+    spec.option.impratio = params.impratio
+    n_pairs = 0
+    if scene.has("contact"):
+        for plan in contacts:
+            spec.add_pair(name=f"ground_{plan.name}", geomname1=GROUND, geomname2=plan.name,
+                          condim=condim_for(scene), friction=list(pair_friction(scene)),
+                          solref=list(params.solref), solimp=list(params.solimp),
+                          solreffriction=list(params.solreffriction))
+            n_pairs += 1
+
+    qpos, qvel = qpos_qvel(props, _initial_state(scene))
+    spec.add_key(name="initial", qpos=list(qpos), qvel=list(qvel))
+    return Twin(spec, scene, props, inertial, params, condim_for(scene), friction_for(scene),
+                integrator, scene.mujoco.cone, dt, n_pairs)
+
+
+def build_spec(scene: Scene, solref: str | None = None, **settings) -> mujoco.MjSpec:
+    """The twin's MjSpec; settings: integrator=, dt= (default: the scene's [mujoco] table)."""
+    return build_twin(scene, solref, **settings).spec
+
+
+def build_model(scene: Scene, solref: str | None = None, **settings) -> mujoco.MjModel:
+    """The twin's compiled MjModel (qpos0 = 0; keyframe 0 "initial" holds the scene's start)."""
+    return build_spec(scene, solref, **settings).compile()
+
+
+def to_mjcf(scene: Scene, solref: str | None = None, **settings) -> str:
+    """The twin as MJCF text (MjSpec.to_xml of the compiled spec)."""
+    spec = build_spec(scene, solref, **settings)
+    spec.compile()
+    return spec.to_xml()
+
+
+def _initial_state(scene: Scene):
+    i = scene.initial
+    return (*i.position, i.angle, *i.velocity, i.angular_velocity)
+
+
+def _add_geom(body, plan: GeomPlan, group: int, rgba):
+    """A geom that never collides by itself (contacts are explicit pairs)."""
+    return body.add_geom(name=plan.name, type=GEOM_TYPES[plan.kind],
+                         size=list(plan.size), pos=list(plan.pos), quat=list(plan.quat),
+                         group=group, rgba=list(rgba), contype=0, conaffinity=0)
+
+
+def _header(scene: Scene, mapping: str) -> str:
+    """The MJCF's opening comment (an XML comment may not hold "--")."""
+    text = (f" MuJoCo twin of scene '{scene.name}' ({scene.source}), generated by mujoco_models. "
+            f"The body moves in the x-z plane: slide joints x and y (MuJoCo's z is the scene's y) and "
+            f"hinge theta (axis 0 -1 0 through the centre of mass: the counter-clockwise angle). The "
+            f"COM is at (qpos_x, qpos_y) + the inertial pos. Contacts are the explicit pairs of the "
+            f"ground with the spheres of group {CONTACT_GROUP}; group {VISUAL_GROUP} only draws the "
+            f"shape. solref mapping: {mapping}. Keyframe 'initial' holds the scene's initial state. ")
+    while "--" in text:
+        text = text.replace("--", "- -")
+    return text

@@ -1,0 +1,28 @@
+"""custom_sim against its MuJoCo twin: every built-in scenario within its derived tolerance.
+
+The penalty mapping makes MuJoCo's contact our spring-damper (PHYSICS.md), so every built-in
+scenario is expected to agree with it, within the tolerance compare/tolerance.py derives from
+what the two models do not share; with friction on, the scenario also runs with friction off,
+where only impedance and contact switching separate them.
+"""
+import pytest
+
+from compare.comparison import run_scenario
+from compare.scenarios import builtin_paths, load
+
+
+@pytest.mark.parametrize("path", builtin_paths(), ids=lambda p: p.stem)
+def test_builtin_scenario_agrees_with_mujoco(path):
+    scene = load(str(path))
+    assert scene.mujoco.solref == "penalty"
+    result = run_scenario(scene)
+    assert result.error is None, result.error
+    m, tol = result.metrics, result.tolerance
+    assert m["position_error_max"] <= tol.position, (
+        f"{scene.name}: position difference {m['position_error_max']:.3e} m > {tol.position:.3e} m ({tol.reason})")
+    assert m["angle_error_max"] <= tol.angle, (
+        f"{scene.name}: angle difference {m['angle_error_max']:.3e} rad > {tol.angle:.3e} rad ({tol.reason})")
+    if result.ablation is not None:
+        ab = result.ablation
+        assert ab["position_error_max"] <= ab["tolerance_position"], f"friction off: {ab}"
+        assert ab["angle_error_max"] <= ab["tolerance_angle"], f"friction off: {ab}"
