@@ -34,5 +34,17 @@ def load(spec: str) -> Scene:
     return load_scene(resolve(spec))
 
 
+def load_all(specs: list[str] | None) -> list[Scene]:
+    """The scenes a command runs: the given names or paths, or every built-in; names distinct
+    (they name the report folders)."""
+    scenes = [load(spec) for spec in (specs or [str(p) for p in builtin_paths()])]
+    names = [s.name for s in scenes]
+    for scene in scenes:
+        if names.count(scene.name) > 1:
+            raise SceneError(scene.source, "name", f"'{scene.name}' is used by two scenes "
+                                                   "(expected distinct names: set `name` in one file)")
+    return scenes
+
+
 def load_builtins(group: str = "builtin") -> list[Scene]:
     return [load_scene(p) for p in builtin_paths(group)]

@@ -1,5 +1,9 @@
 """A hand-written 2D penalty contact simulator: point mass, box, compound body, rolling circle."""
-from .bodies import MassProperties, mass_properties
+from .compile_cache import clear_if_sources_changed
+
+clear_if_sources_changed()
+
+from .bodies import MassProperties, mass_properties  # noqa: E402
 from .integrators import INTEGRATORS, Integrator
 from .scene import Scene, SceneError, load_scene, parse_scene
 from .simulate import SimulationDiverged, Stepper, simulate

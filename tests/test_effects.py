@@ -10,7 +10,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from custom_sim import SimulationDiverged, load_scene, simulate
+from custom_sim import load_scene, simulate
 from custom_sim.integrators import INTEGRATORS, integrate
 from custom_sim.model import build_model, initial_state
 from custom_sim.bodies import mass_properties

@@ -8,7 +8,6 @@ step in contact: energy grows at every bounce. Implicit Euler divides by it: ene
 import dataclasses
 
 import numpy as np
-import pytest
 
 from custom_sim import load_scene, simulate
 

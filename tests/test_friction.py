@@ -1,6 +1,4 @@
 """Friction against textbook results: a sliding box, a disk that starts to roll, rolling resistance."""
-import math
-
 import numpy as np
 import pytest
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from custom_sim import SceneError
 
-from ..scenarios import builtin_paths, load
+from ..scenarios import load_all
 
 
 def add_arguments(parser) -> None:
@@ -46,16 +46,10 @@ def _init(out: str) -> None:
 
 def main(args) -> int:
     try:
-        specs = args.scenes or [str(p) for p in builtin_paths()]
-        scenes = [load(spec) for spec in specs]
+        scenes = load_all(args.scenes)
     except SceneError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    names = [s.name for s in scenes]
-    for name in set(names):
-        if names.count(name) > 1:
-            print(f"error: two scenes are named '{name}' (expected distinct names: set `name` in one file)", file=sys.stderr)
-            return 2
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         print(f"error: {out}: --out: is a file (expected a folder)", file=sys.stderr)
@@ -78,7 +72,7 @@ def main(args) -> int:
                 print(f"error: {error}", file=sys.stderr)
             else:
                 rows[name] = row
-    ordered = [rows[n] for n in names if n in rows]
+    ordered = [rows[s.name] for s in scenes if s.name in rows]
     index = write_index(out, ordered, failures)
     for r in ordered:
         verdict = "pass" if r["pass"] else "FAIL"

@@ -1,0 +1,415 @@
+"""Work-precision sweep: what each integrator's accuracy costs, in both simulators.
+
+For every scene (following DiffEqDevTools' work-precision diagrams, PHYSICS.md "Accuracy
+against cost"):
+
+  reference    compare.reference: custom_sim's equations by DOP853 at tight tolerance with
+               every contact switch located as an event; its convergence is checked by the
+               change when the tolerance is tightened 100-fold, and its sensitivity by the
+               growth of a tiny change of the initial height (the error amplification).
+  custom       each of our four integrators at dt = GRID / n for n in LADDER, recording the
+               state every GRID seconds (custom_sim.Stepper, no per-step Python).
+  mujoco       each MuJoCo integrator at dt = GRID / n for n in MUJOCO_LADDER
+               (mujoco_models.simulate_mujoco), and MuJoCo's own converged solution: RK4 at
+               GRID / MUJOCO_CONVERGED_N, checked against RK4 at twice that step.
+
+Error of a run: e(t_k) = |p(t_k) - p_ref(t_k)|, the distance between the centres of mass (m)
+on the common grid t_k = k GRID; `error_max` = max_k e, `error_l2` = sqrt(mean_k e^2) (RMS).
+Ours and MuJoCo's are measured against our reference; MuJoCo's also against its own converged
+solution (`error_max_self`): numerical error alone, the rest is model difference.
+
+Cost of a run: time of the stepping alone, the minimum over repeats after a warm-up (the
+error run is the warm-up), and force evaluations (ours counted by custom_sim; MuJoCo's
+counted as stages per step: 4 for RK4, else 1). The time is the CPU time of the stepping
+thread (`cpu_time`; equal to the wall time on an idle core, and not inflated by other
+processes on a shared machine: see compare/benchmark.py); `wall_time` is kept beside it.
+
+Runs are kept only where stable (stability_search.energy_verdict on the grid states); a rung
+predicted to take longer than RUN_BUDGET is skipped (the ladder stops there). The tasks run
+in a process pool over every core.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Stepper, mass_properties
+from custom_sim.energy import energy_parts
+
+from . import reference as ref_mod
+from .stability_search import energy_scale, energy_verdict
+
+GRID = 2e-3          # s: errors are measured every 2 ms (every step size below divides it)
+LADDER = (1, 2, 4, 10, 20, 40, 100, 200, 400, 1000)       # dt = 2 ms ... 2 us
+MUJOCO_LADDER = (1, 2, 4, 10, 20, 40, 100)                 # dt = 2 ms ... 20 us
+MUJOCO_INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
+MUJOCO_CONVERGED = "RK4"
+MUJOCO_CONVERGED_N = 400                                    # dt = 5 us
+RUN_BUDGET = 1.5      # s: longest single run a rung may take (predicted from the previous rung)
+CONVERGED_BUDGET = 20.0   # s: longest run of MuJoCo's converged solution (the 60 s stress scenes)
+MUJOCO_RK4_STEP = 20e-6   # s: a MuJoCo RK4 step of these twins, generously (measured 7-19 us)
+TIMING_BUDGET = 0.3   # s: repeats of a run's timing stop when they add up to this
+MAX_REPEATS = 15
+TARGET_ERROR = 1e-3   # m: "what is the cheapest way to reach 1 mm here?"
+# Initial-height change (m) whose growth measures how strongly the motion amplifies errors:
+# far above the reference's own error (1e-9 m), far below any measured error's effect.
+PERTURBATION = 1e-7
+
+
+def grid_times(scene: Scene) -> np.ndarray:
+    """t_k = k GRID up to the scene's duration (s)."""
+    n = int(round(scene.duration / GRID))
+    return np.arange(n + 1) * GRID
+
+
+def steps_for(scene: Scene, dt: float) -> int:
+    return int(round(scene.duration / dt))
+
+
+@dataclass
+class Run:
+    """One simulation of the sweep (units: m, rad, s)."""
+
+    simulator: str
+    integrator: str
+    dt: float
+    steps: int
+    stable: bool = True
+    note: str = ""
+    error_max: float = math.nan
+    error_l2: float = math.nan
+    angle_error_max: float = math.nan
+    error_max_self: float = math.nan     # MuJoCo: against its own converged solution
+    error_l2_self: float = math.nan
+    cpu_time: float = math.nan           # s, stepping thread
+    wall_time: float = math.nan
+    repeats: int = 0
+    force_evals: int = 0
+    states: np.ndarray | None = field(default=None, repr=False)   # (K+1, 6) on the grid
+
+    def as_dict(self) -> dict:
+        d = dataclasses.asdict(self)
+        d.pop("states")
+        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in d.items()}
+
+
+@dataclass
+class SceneSweep:
+    """Everything measured on one scene."""
+
+    scene: Scene
+    reference: dict
+    runs: list[Run]
+    mujoco_converged: dict
+    stability: list = field(default_factory=list)
+
+    def of(self, simulator: str, integrator: str) -> list[Run]:
+        return [r for r in self.runs if r.simulator == simulator and r.integrator == integrator]
+
+
+# ---------------------------------------------------------------------------------------
+# Errors
+
+
+def position_errors(states: np.ndarray, ref_states: np.ndarray) -> tuple[float, float, float]:
+    """(max, RMS) of the COM distance (m) and max angle difference (rad) over the grid."""
+    e = np.hypot(states[:, 0] - ref_states[:, 0], states[:, 1] - ref_states[:, 1])
+    return float(e.max()), float(np.sqrt(np.mean(e * e))), float(np.max(np.abs(states[:, 2] - ref_states[:, 2])))
+
+
+def grid_verdict(scene: Scene, states: np.ndarray, scale: float) -> tuple[bool, str]:
+    """Stability of a run from its grid states: finite and no energy growth."""
+    if not np.all(np.isfinite(states)):
+        return False, "non-finite state"
+    ke, pe, ce = energy_parts(scene, mass_properties(scene.body), states)
+    return energy_verdict(ke + pe + ce, ce, scale)
+
+
+# ---------------------------------------------------------------------------------------
+# Our simulator
+
+
+def custom_grid_run(scene: Scene, integrator: str, dt: float) -> tuple[np.ndarray, int]:
+    """States on the grid (K+1, 6) and force evaluations of one run; raises SimulationDiverged."""
+    sc = dataclasses.replace(scene, integrator=integrator, dt=dt)
+    per = int(round(GRID / dt))
+    stepper = Stepper(sc)
+    out = [stepper.state.copy()]
+    for _ in range(len(grid_times(scene)) - 1):
+        out.append(stepper.advance(per).copy())
+    return np.array(out), int(stepper.counters[0])
+
+
+def timed(run) -> tuple[float, float, int]:
+    """(min CPU time, min wall time, repeats) of run() -> (cpu s, wall s): one warm-up call,
+    then as many repeats as fit in TIMING_BUDGET (1 to MAX_REPEATS)."""
+    _, first = run()
+    repeats = int(np.clip(math.ceil(TIMING_BUDGET / max(first, 1e-9)), 1, MAX_REPEATS))
+    times = [run() for _ in range(repeats)]
+    return min(t[0] for t in times), min(t[1] for t in times), repeats
+
+
+def custom_wall(scene: Scene, integrator: str, dt: float):
+    sc = dataclasses.replace(scene, integrator=integrator, dt=dt)
+    n = sc.steps
+
+    def run():
+        stepper = Stepper(sc)
+        w0, c0 = time.perf_counter(), time.thread_time()
+        stepper.advance(n)
+        return time.thread_time() - c0, time.perf_counter() - w0
+    return run
+
+
+def custom_ladder(scene: Scene, integrator: str, ref_states: np.ndarray, scale: float,
+                  ladder=LADDER) -> list[Run]:
+    """Our integrator over the ladder (steps per grid interval), coarse to fine."""
+    runs, last_time, dt_prev = [], None, None
+    for n in ladder:
+        dt = GRID / n
+        run = Run("custom", integrator, dt, steps_for(scene, dt))
+        if last_time is not None and last_time * (dt_prev / dt) > RUN_BUDGET:
+            break
+        try:
+            states, evals = custom_grid_run(scene, integrator, dt)
+        except SimulationDiverged as exc:
+            run.stable, run.note = False, f"diverged at step {exc.step}"
+            runs.append(run)
+            dt_prev = dt
+            continue
+        run.stable, run.note = grid_verdict(scene, states, scale)
+        run.force_evals = evals
+        if run.stable:
+            run.error_max, run.error_l2, run.angle_error_max = position_errors(states, ref_states)
+            run.cpu_time, run.wall_time, run.repeats = timed(custom_wall(scene, integrator, dt))
+            last_time = run.wall_time
+            run.states = states
+        runs.append(run)
+        dt_prev = dt
+    return runs
+
+
+# ---------------------------------------------------------------------------------------
+# MuJoCo
+
+
+def mujoco_grid_run(scene: Scene, integrator: str, dt: float):
+    """(states on the grid, force evaluations, wall time of the recorded C rollout)."""
+    from mujoco_models import simulate_mujoco
+
+    traj = simulate_mujoco(scene, integrator=integrator, dt=dt)
+    per = int(round(GRID / dt))
+    states = traj.states()[::per]
+    return states[:len(grid_times(scene))], traj.force_evals, traj.wall_time
+
+
+def mujoco_wall(scene: Scene, integrator: str, dt: float):
+    from .benchmark import mujoco_setup
+
+    model, data, state = mujoco_setup(scene, integrator, dt)
+    n = steps_for(scene, dt)
+
+    def run():
+        import mujoco
+        mujoco.mj_setState(model, data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+        w0, c0 = time.perf_counter(), time.thread_time()
+        mujoco.mj_step(model, data, nstep=n)
+        return time.thread_time() - c0, time.perf_counter() - w0
+    return run
+
+
+def mujoco_ladder(scene: Scene, integrator: str, ref_states: np.ndarray, scale: float,
+                  ladder=MUJOCO_LADDER) -> list[Run]:
+    """A MuJoCo integrator over MUJOCO_LADDER (errors against our reference; the error against
+    MuJoCo's own converged solution is filled in once that is known)."""
+    from mujoco_models import MujocoDiverged
+
+    runs, last_time, dt_prev = [], None, None
+    for n in ladder:
+        dt = GRID / n
+        run = Run("mujoco", integrator, dt, steps_for(scene, dt))
+        if last_time is not None and last_time * (dt_prev / dt) > RUN_BUDGET:
+            break
+        dt_prev = dt
+        try:
+            states, evals, _ = mujoco_grid_run(scene, integrator, dt)
+        except MujocoDiverged as exc:
+            run.stable, run.note = False, str(exc)
+            runs.append(run)
+            continue
+        run.stable, run.note = grid_verdict(scene, states, scale)
+        run.force_evals = evals
+        if run.stable:
+            run.error_max, run.error_l2, run.angle_error_max = position_errors(states, ref_states)
+            run.cpu_time, run.wall_time, run.repeats = timed(mujoco_wall(scene, integrator, dt))
+            last_time = run.wall_time
+            run.states = states
+        runs.append(run)
+    return runs
+
+
+def mujoco_converged(scene: Scene, n: int = MUJOCO_CONVERGED_N) -> dict:
+    """MuJoCo's own converged solution: RK4 at GRID / MUJOCO_CONVERGED_N, and its change from
+    RK4 at twice the step (an estimate of its own error). A long scene takes a coarser step,
+    halved in n until the run is predicted to fit CONVERGED_BUDGET."""
+    while n > 1 and steps_for(scene, GRID / n) * MUJOCO_RK4_STEP > CONVERGED_BUDGET:
+        n //= 2
+    dt = GRID / n
+    fine, _, wall = mujoco_grid_run(scene, MUJOCO_CONVERGED, dt)
+    coarse, _, _ = mujoco_grid_run(scene, MUJOCO_CONVERGED, 2 * dt)
+    change = float(np.max(np.hypot(*(fine[:, :2] - coarse[:, :2]).T)))
+    return {"integrator": MUJOCO_CONVERGED, "dt": dt, "states": fine, "change_at_double_step": change,
+            "wall_time": wall}
+
+
+# ---------------------------------------------------------------------------------------
+# The reference, with its convergence and sensitivity
+
+
+def reference_task(scene: Scene, cache_dir: str | None) -> dict:
+    t = grid_times(scene)
+    start = time.perf_counter()
+    ref = ref_mod.cached_reference(scene, t, cache_dir)
+    tight = ref_mod.cached_reference(scene, t, cache_dir, rtol=ref.rtol / 100, atol=ref.atol / 100)
+    x0, y0 = scene.initial.position
+    nudged = dataclasses.replace(scene, initial=dataclasses.replace(scene.initial, position=(x0, y0 + PERTURBATION)))
+    twin = ref_mod.cached_reference(nudged, t, cache_dir)
+    change = np.hypot(*(ref.states[:, :2] - tight.states[:, :2]).T)
+    growth = np.hypot(*(ref.states[:, :2] - twin.states[:, :2]).T) / PERTURBATION
+    return {
+        "states": ref.states,
+        "rtol": ref.rtol, "atol": ref.atol, "method": ref.method,
+        "nfev": ref.nfev, "segments": ref.segments, "switches": ref.switches,
+        "solve_time": ref.wall_time,
+        "change_at_tighter_tolerance": float(change.max()),
+        "amplification": float(growth.max()),
+        "amplification_time": float(t[int(np.argmax(growth))]),
+        "energy_scale": energy_scale(ref.states, scene),
+        "wall_time": time.perf_counter() - start,
+    }
+
+
+# ---------------------------------------------------------------------------------------
+# Orchestration
+
+
+def _task(kind: str, scene: Scene, integrator: str | None, ref: dict | None, cache_dir, ladders=None):
+    """One unit of work in a worker process."""
+    ladders = ladders or {}
+    if kind == "reference":
+        return reference_task(scene, cache_dir)
+    if kind == "custom":
+        return custom_ladder(scene, integrator, ref["states"], ref["energy_scale"],
+                             ladders.get("custom", LADDER))
+    if kind == "mujoco":
+        return mujoco_ladder(scene, integrator, ref["states"], ref["energy_scale"],
+                             ladders.get("mujoco", MUJOCO_LADDER))
+    if kind == "mujoco_converged":
+        return mujoco_converged(scene, ladders.get("mujoco_converged", MUJOCO_CONVERGED_N))
+    if kind == "stability_custom":
+        from .stability_search import custom_limit
+        return custom_limit(scene, integrator, ref["energy_scale"])
+    if kind == "stability_mujoco":
+        from .stability_search import mujoco_limit
+        return mujoco_limit(scene, integrator, ref["energy_scale"])
+    raise ValueError(kind)
+
+
+# Rough relative cost of each kind of task, to start the long ones first.
+_WEIGHT = {"mujoco_converged": 40, "mujoco": 10, "custom": 5, "stability_mujoco": 3,
+           "stability_custom": 1}
+
+
+def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: int | None = None,
+              mujoco: bool = True, stability: bool = True, progress=None,
+              ladders: dict | None = None) -> list[SceneSweep]:
+    """Measure every scene; progress(total) -> a tqdm-like object with update(), or None;
+    ladders: {"custom": steps per grid interval, "mujoco": ..., "mujoco_converged": n}
+    to replace LADDER, MUJOCO_LADDER and MUJOCO_CONVERGED_N (shorter runs in tests)."""
+    jobs = jobs or os.cpu_count() or 1
+    cache = None if cache_dir is None else str(cache_dir)
+    tasks = []
+    for s in scenes:
+        tasks += [("custom", s, name) for name in INTEGRATORS]
+        if stability:
+            tasks += [("stability_custom", s, name) for name in INTEGRATORS]
+        if mujoco:
+            tasks += [("mujoco", s, name) for name in MUJOCO_INTEGRATORS]
+            tasks.append(("mujoco_converged", s, None))
+            if stability:
+                tasks += [("stability_mujoco", s, name) for name in MUJOCO_INTEGRATORS]
+    tasks.sort(key=lambda t: -_WEIGHT[t[0]] * t[1].duration)
+    bar = progress(len(scenes) + len(tasks)) if progress else None
+    results: dict = {}
+    with ProcessPoolExecutor(max_workers=jobs) as pool:
+        refs = {pool.submit(_task, "reference", s, None, None, cache): s.name for s in scenes}
+        references = {}
+        for fut in as_completed(refs):
+            references[refs[fut]] = fut.result()
+            if bar:
+                bar.update(1)
+        futures = {pool.submit(_task, kind, s, integ, references[s.name], cache, ladders): (kind, s.name, integ)
+                   for kind, s, integ in tasks}
+        for fut in as_completed(futures):
+            results[futures[fut]] = fut.result()
+            if bar:
+                bar.update(1)
+    if bar:
+        bar.close()
+    out = []
+    for s in scenes:
+        ref = references[s.name]
+        runs = [r for integ in INTEGRATORS for r in results[("custom", s.name, integ)]]
+        conv = {}
+        if mujoco:
+            conv = results[("mujoco_converged", s.name, None)]
+            for integ in MUJOCO_INTEGRATORS:
+                for r in results[("mujoco", s.name, integ)]:
+                    if r.stable:
+                        r.error_max_self, r.error_l2_self, _ = position_errors(r.states, conv["states"])
+                    runs.append(r)
+            conv = dict(conv)
+            conv["error_max"], conv["error_l2"], _ = position_errors(conv["states"], ref["states"])
+        limits = []
+        if stability:
+            limits = [results[("stability_custom", s.name, i)] for i in INTEGRATORS]
+            if mujoco:
+                limits += [results[("stability_mujoco", s.name, i)] for i in MUJOCO_INTEGRATORS]
+        out.append(SceneSweep(s, ref, runs, conv, limits))
+    return out
+
+
+# ---------------------------------------------------------------------------------------
+# The answer to "what is the cheapest way to reach 1 mm here?"
+
+
+def _error(run: Run, self_error: bool) -> float:
+    return run.error_max_self if self_error else run.error_max
+
+
+def within(run: Run, runs: list[Run], target: float = TARGET_ERROR, self_error: bool = False) -> bool:
+    """run meets the target, and so does every finer stable rung of its integrator: with the
+    contact switches falling anywhere inside a step, a fixed step's error jumps about as h
+    shrinks, and one lucky step size is not an answer."""
+    finer = [r for r in runs if r.simulator == run.simulator and r.integrator == run.integrator
+             and r.stable and r.dt <= run.dt]
+    return all(_error(r, self_error) <= target for r in finer)
+
+
+def cheapest(runs: list[Run], target: float = TARGET_ERROR, self_error: bool = False) -> Run | None:
+    """The run with the smallest CPU time that is `within` target (m)."""
+    ok = [r for r in runs if r.stable and math.isfinite(_error(r, self_error))
+          and within(r, runs, target, self_error)]
+    return min(ok, key=lambda r: r.cpu_time) if ok else None
+
+
+def best_error(runs: list[Run], self_error: bool = False) -> Run | None:
+    ok = [r for r in runs if r.stable and math.isfinite(_error(r, self_error))]
+    return min(ok, key=lambda r: _error(r, self_error)) if ok else None
