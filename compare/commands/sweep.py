@@ -275,11 +275,11 @@ def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
         f"- **Error**: distance between centres of mass, simulator against reference, every {GRID * 1e3:g} ms; "
         f"max and RMS (L2) over the run. MuJoCo's error is given twice: against its own converged solution "
         f"(RK4 at dt = {GRID / MUJOCO_CONVERGED_N:g} s: numerical error only) and against our reference "
-        f"(numerical error plus model difference).",
+        "(numerical error plus model difference).",
         "- **Cost**: time of the stepping alone (ours: one compiled call, MuJoCo: `mj_step` with nstep, "
-        f"both recording nothing), the minimum over repeats after a warm-up, as the CPU time of the stepping "
-        f"thread (the wall time on an idle core; on this shared 2-core machine it does not charge a run for "
-        f"time given to other processes; results.json has the wall times too), and force evaluations.",
+        "both recording nothing), the minimum over repeats after a warm-up, as the CPU time of the stepping "
+        "thread (the wall time on an idle core; on this shared 2-core machine it does not charge a run for "
+        "time given to other processes; results.json has the wall times too), and force evaluations.",
         f"- **Ladders**: dt = {GRID:g} s / n, n in {list(LADDER)} for ours and {list(MUJOCO_LADDER)} for MuJoCo; "
         f"a rung predicted to take over {RUN_BUDGET:g} s is skipped; unstable rungs are left out of the diagrams.",
         f"- **Stable** = no divergence (for MuJoCo: no reset on a bad acceleration) and the energy, read where "
