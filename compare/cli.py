@@ -1,14 +1,19 @@
 """The command line: `python -m compare <command>`; each command lives in its own module.
 
 A command module has a one-line docstring (the help), `add_arguments(parser)` and
-`main(args) -> int` (the exit status: 0 ok, 1 outside tolerance, 2 bad input). Heavy
-imports (mujoco, matplotlib) stay inside `main` so that `--help` and `list` start fast.
+`main(args) -> int` (the exit status: 0 ok, 1 outside tolerance, 2 bad input). A command
+reports bad input by raising SceneError or BadInput: `main` below turns either into one line
+on stderr and exit status 2, before anything is written. Heavy imports (mujoco, matplotlib)
+stay inside a command's `main` so that `--help` and `list` start fast.
 """
 from __future__ import annotations
 
 import argparse
 import importlib
 import sys
+from pathlib import Path
+
+from custom_sim import SceneError
 
 COMMANDS = {
     "list": "compare.commands.list_scenes",
@@ -20,6 +25,18 @@ COMMANDS = {
 }
 
 EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2
+
+
+class BadInput(ValueError):
+    """Bad input that is not a scene file's (an option's value): `what: message`."""
+
+
+def output_folder(out: str) -> Path:
+    """The --out folder: a folder or a path still free, never an existing file."""
+    path = Path(out)
+    if path.exists() and not path.is_dir():
+        raise BadInput(f"{path}: --out: is a file (expected a folder)")
+    return path
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -44,7 +61,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
-    return args._main(args)
+    try:
+        return args._main(args)
+    except (SceneError, BadInput) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
 
 
 if __name__ == "__main__":

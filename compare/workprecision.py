@@ -168,32 +168,40 @@ def custom_wall(scene: Scene, integrator: str, dt: float):
     return run
 
 
-def custom_ladder(scene: Scene, integrator: str, ref_states: np.ndarray, scale: float,
-                  ladder=LADDER) -> list[Run]:
-    """Our integrator over the ladder (steps per grid interval), coarse to fine."""
+def ladder_runs(simulator: str, scene: Scene, integrator: str, ref_states: np.ndarray, scale: float,
+                ladder, grid_run, wall, diverged) -> list[Run]:
+    """One integrator over a ladder of steps (steps per grid interval), coarse to fine, until a
+    run would exceed RUN_BUDGET: grid_run gives (states on the grid, force evaluations, ...),
+    wall the timed run, `diverged` the exception of a blown-up run."""
     runs, last_time, dt_prev = [], None, None
     for n in ladder:
         dt = GRID / n
-        run = Run("custom", integrator, dt, steps_for(scene, dt))
+        run = Run(simulator, integrator, dt, steps_for(scene, dt))
         if last_time is not None and last_time * (dt_prev / dt) > RUN_BUDGET:
             break
+        dt_prev = dt
         try:
-            states, evals = custom_grid_run(scene, integrator, dt)
-        except SimulationDiverged as exc:
-            run.stable, run.note = False, f"diverged at step {exc.step}"
+            states, evals = grid_run(scene, integrator, dt)[:2]
+        except diverged as exc:
+            run.stable, run.note = False, str(exc)
             runs.append(run)
-            dt_prev = dt
             continue
         run.stable, run.note = grid_verdict(scene, states, scale)
         run.force_evals = evals
         if run.stable:
             run.error_max, run.error_l2, run.angle_error_max = position_errors(states, ref_states)
-            run.cpu_time, run.wall_time, run.repeats = timed(custom_wall(scene, integrator, dt))
+            run.cpu_time, run.wall_time, run.repeats = timed(wall(scene, integrator, dt))
             last_time = run.wall_time
             run.states = states
         runs.append(run)
-        dt_prev = dt
     return runs
+
+
+def custom_ladder(scene: Scene, integrator: str, ref_states: np.ndarray, scale: float,
+                  ladder=LADDER) -> list[Run]:
+    """Our integrator over the ladder."""
+    return ladder_runs("custom", scene, integrator, ref_states, scale, ladder,
+                       custom_grid_run, custom_wall, SimulationDiverged)
 
 
 # ---------------------------------------------------------------------------------------
@@ -231,28 +239,8 @@ def mujoco_ladder(scene: Scene, integrator: str, ref_states: np.ndarray, scale: 
     MuJoCo's own converged solution is filled in once that is known)."""
     from mujoco_models import MujocoDiverged
 
-    runs, last_time, dt_prev = [], None, None
-    for n in ladder:
-        dt = GRID / n
-        run = Run("mujoco", integrator, dt, steps_for(scene, dt))
-        if last_time is not None and last_time * (dt_prev / dt) > RUN_BUDGET:
-            break
-        dt_prev = dt
-        try:
-            states, evals, _ = mujoco_grid_run(scene, integrator, dt)
-        except MujocoDiverged as exc:
-            run.stable, run.note = False, str(exc)
-            runs.append(run)
-            continue
-        run.stable, run.note = grid_verdict(scene, states, scale)
-        run.force_evals = evals
-        if run.stable:
-            run.error_max, run.error_l2, run.angle_error_max = position_errors(states, ref_states)
-            run.cpu_time, run.wall_time, run.repeats = timed(mujoco_wall(scene, integrator, dt))
-            last_time = run.wall_time
-            run.states = states
-        runs.append(run)
-    return runs
+    return ladder_runs("mujoco", scene, integrator, ref_states, scale, ladder,
+                       mujoco_grid_run, mujoco_wall, MujocoDiverged)
 
 
 def mujoco_converged(scene: Scene, n: int = MUJOCO_CONVERGED_N) -> dict:

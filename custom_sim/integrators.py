@@ -207,6 +207,16 @@ def is_healthy(z, guard):
 
 
 @njit(cache=True)
+def first_unhealthy(states, guard):
+    """Index of the first row of states (T, 6) that is_healthy rejects, or -1 (for a
+    trajectory computed elsewhere: the MuJoCo twin's)."""
+    for i in range(states.shape[0]):
+        if not is_healthy(states[i], guard):
+            return i
+    return -1
+
+
+@njit(cache=True)
 def integrate(model, points, z, h, n, method, ext, out, counters, guard):
     """Advance z by n steps of size h (s), writing the state after step i to out[i] when
     out has n rows (out with 0 rows records nothing). ext: (1, 3) constant or (n, 3) per

@@ -15,6 +15,7 @@ import numpy as np
 from mujoco import rollout
 
 from custom_sim.energy import energy_parts
+from custom_sim.integrators import first_unhealthy
 from custom_sim.scene import Scene
 from custom_sim.simulate import blowup_guard
 from custom_sim.trajectory import Trajectory
@@ -33,19 +34,6 @@ class MujocoDiverged(RuntimeError):
     """The twin's state blew up: MuJoCo flagged a bad acceleration (and reset the state), or
     the state left the range custom_sim's guard allows (non-finite, too far, too fast, or
     more energy than the scene ever had). The run is void."""
-
-
-def first_unhealthy(states: np.ndarray, guard) -> int | None:
-    """Index of the first row of states (T, 6) that custom_sim's blow-up guard rejects."""
-    mass, inertia, g, y_low, energy_limit, position_limit, speed_limit = guard
-    x, y, _, vx, vy, om = states.T
-    with np.errstate(invalid="ignore", over="ignore"):
-        energy = 0.5 * mass * (vx * vx + vy * vy) + 0.5 * inertia * om * om + mass * g * (y - y_low)
-        bad = (~np.all(np.isfinite(states), axis=1) | (np.abs(x) > position_limit)
-               | (np.abs(y) > position_limit) | (np.max(np.abs(states[:, 3:]), axis=1) > speed_limit)
-               | ~(energy <= energy_limit))
-    hits = np.flatnonzero(bad)
-    return int(hits[0]) if hits.size else None
 
 
 def setup_rollout(scene: Scene, solref: str | None = None, integrator: str | None = None,
@@ -76,8 +64,8 @@ def simulate_mujoco(scene: Scene, solref: str | None = None, integrator: str | N
     what = f"{scene.name}: MuJoCo ({twin.integrator}, dt = {twin.dt:g} s, solref {twin.contact.mapping})"
     if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:
         raise MujocoDiverged(f"{what} met a bad acceleration and reset the state; try a smaller dt")
-    step = first_unhealthy(states, blowup_guard(scene, twin.props, states[0], applied_input=False))
-    if step is not None:
+    step = first_unhealthy(np.ascontiguousarray(states), blowup_guard(scene, twin.props, states[0], applied_input=False))
+    if step >= 0:
         raise MujocoDiverged(f"{what} blew up at step {step} (t = {step * twin.dt:.6g} s): the state left "
                              f"custom_sim's healthy range; try a smaller dt")
     ke, pe, ce = energy_parts(scene, twin.props, states)

@@ -11,9 +11,7 @@ and prints the cost ratio (10 = linear).
 from __future__ import annotations
 
 import json
-import sys
 
-from custom_sim import SceneError
 
 from ..scenarios import load_all
 
@@ -33,11 +31,7 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    try:
-        scenes = load_all(args.scenes)
-    except SceneError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
+    scenes = load_all(args.scenes)
     from ..benchmark import bench_scene, linearity
 
     timing = {} if args.repeats is None else {"repeats": max(1, args.repeats)}

@@ -1,10 +1,6 @@
 """List the built-in scenarios: name, shape, effects, description (stress cases apart)."""
 from __future__ import annotations
 
-import sys
-
-from custom_sim import SceneError
-
 from ..scenarios import builtin_paths, load
 
 
@@ -13,11 +9,7 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    try:
-        groups = {g: [load(str(p)) for p in builtin_paths(g)] for g in ("builtin", "stress")}
-    except SceneError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
+    groups = {g: [load(str(p)) for p in builtin_paths(g)] for g in ("builtin", "stress")}
     titles = {"builtin": "Built-in scenarios (`python -m compare run` runs these)",
               "stress": "Stress scenarios (hard cases: run them by name)"}
     for group, scenes in groups.items():

@@ -20,14 +20,9 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    from custom_sim import SceneError
     from compare.scenarios import load
 
-    try:
-        scene = load(args.scene)
-    except SceneError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+    scene = load(args.scene)  # a bad scene: compare.cli reports it, exit 2
 
     from mujoco_models import to_mjcf  # mujoco loads only when there is a model to build
 

@@ -12,8 +12,8 @@ import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from custom_sim import SceneError
 
+from ..cli import output_folder
 from ..scenarios import load_all
 
 
@@ -23,7 +23,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="scenarios run at once (default: every core)")
 
 
-def run_one(scene):
+def run_one(scene, out: str):
     """Worker: run, compare and write one scenario; returns (row or None, divergence message)."""
     from ..comparison import run_scenario
     from ..report import write_scenario
@@ -33,27 +33,12 @@ def run_one(scene):
         return None, result.error
     from mujoco_models import to_mjcf
 
-    return write_scenario(result, Path(OUT), to_mjcf(scene)), None
-
-
-OUT = "reports"
-
-
-def _init(out: str) -> None:
-    global OUT
-    OUT = out
+    return write_scenario(result, Path(out), to_mjcf(scene)), None
 
 
 def main(args) -> int:
-    try:
-        scenes = load_all(args.scenes)
-    except SceneError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        print(f"error: {out}: --out: is a file (expected a folder)", file=sys.stderr)
-        return 2
+    scenes = load_all(args.scenes)
+    out = output_folder(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
     from tqdm import tqdm
@@ -62,8 +47,8 @@ def main(args) -> int:
 
     rows, failures = {}, []
     jobs = max(1, min(args.jobs, len(scenes)))
-    with ProcessPoolExecutor(jobs, initializer=_init, initargs=(str(out),)) as pool:
-        futures = {pool.submit(run_one, s): s.name for s in scenes}
+    with ProcessPoolExecutor(jobs) as pool:
+        futures = {pool.submit(run_one, s, str(out)): s.name for s in scenes}
         for future in tqdm(futures, desc="scenarios", unit="scene", delay=2, file=sys.stderr):
             name = futures[future]
             row, error = future.result()

@@ -18,8 +18,8 @@ import sys
 import time
 from pathlib import Path
 
-from custom_sim import SceneError
 
+from ..cli import output_folder
 from ..scenarios import load_all
 
 COLORS = {"explicit_euler": "tab:red", "semi_implicit_euler": "tab:blue", "implicit_euler": "tab:green",
@@ -45,15 +45,8 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    try:
-        scenes = load_all(args.scenes)
-    except SceneError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        print(f"error: {out}: --out: is a file (expected a folder)", file=sys.stderr)
-        return 2
+    scenes = load_all(args.scenes)
+    out = output_folder(args.out)
     folder = out / "sweep"
 
     from tqdm import tqdm
