@@ -12,7 +12,7 @@ import json
 import numpy as np
 import pytest
 
-from compare.benchmark import (custom_step_runner, linearity, mujoco_setup, mujoco_step_runner)
+from compare.accuracy.benchmark import (custom_step_runner, linearity, mujoco_setup, mujoco_step_runner)
 from compare.cli import main
 from compare.scenarios import load
 from custom_sim import Stepper, mass_properties, simulate

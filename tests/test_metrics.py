@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from custom_sim import Trajectory, load_scene, simulate
-from compare import events, metrics, tolerance
+from compare.verdict import events, metrics, tolerance
 
 
 def trajectory(t, x, y, theta=None, simulator="custom", dt=None, **energy):

@@ -12,11 +12,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from compare import reference
-from compare.reference import (REFERENCE_ATOL, REFERENCE_RTOL, Equations, cached_reference,
+from compare.accuracy import reference
+from compare.accuracy.reference import (REFERENCE_ATOL, REFERENCE_RTOL, Equations, cached_reference,
                                initial_mode, right_hand_side, solve_reference)
 from compare.scenarios import load, load_builtins
-from compare.workprecision import custom_grid_run, grid_times, position_errors
+from compare.accuracy.workprecision import custom_grid_run, grid_times, position_errors
 from custom_sim.forces import accelerations
 from custom_sim.model import build_model
 

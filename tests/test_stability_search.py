@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from compare.reference import solve_reference
+from compare.accuracy.reference import solve_reference
 from compare.scenarios import load
-from compare.stability_search import (BISECTION_RATIO, ENERGY_GROWTH_LIMIT, custom_limit,
+from compare.accuracy.stability_search import (BISECTION_RATIO, ENERGY_GROWTH_LIMIT, custom_limit,
                                       energy_scale, energy_verdict, largest_stable_step, theory)
-from compare.workprecision import grid_times
+from compare.accuracy.workprecision import grid_times
 
 # The measured limit sits within this of the prediction: the bisection brackets to 1 %, and
 # the growth a 10 % criterion allows moves the threshold by a few % at most (growth is

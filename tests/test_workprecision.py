@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from compare.reference import solve_reference
-from compare.workprecision import (GRID, Run, cheapest, custom_grid_run, custom_ladder, grid_times,
+from compare.accuracy.reference import solve_reference
+from compare.accuracy.workprecision import (GRID, Run, cheapest, custom_grid_run, custom_ladder, grid_times,
                                    position_errors, run_sweep)
 from custom_sim import INTEGRATORS
 

@@ -32,7 +32,7 @@ def add_arguments(parser) -> None:
 
 def main(args) -> int:
     scenes = load_all(args.scenes)
-    from ..benchmark import bench_scene, linearity
+    from ..accuracy.benchmark import bench_scene, linearity
 
     timing = {} if args.repeats is None else {"repeats": max(1, args.repeats)}
     if not args.json:

@@ -25,7 +25,7 @@ def add_arguments(parser) -> None:
 
 def run_one(scene, out: str):
     """Worker: run, compare and write one scenario; returns (row or None, divergence message)."""
-    from ..comparison import run_scenario
+    from ..verdict.comparison import run_scenario
     from ..report import write_scenario
 
     result = run_scenario(scene)

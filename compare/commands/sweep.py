@@ -51,7 +51,7 @@ def main(args) -> int:
 
     from tqdm import tqdm
 
-    from ..workprecision import run_sweep
+    from ..accuracy.workprecision import run_sweep
 
     start = time.perf_counter()
     jobs = max(1, args.jobs)
@@ -107,7 +107,7 @@ def _name(run) -> str:
 
 def answer(sweep) -> str:
     """'What is the cheapest way to reach 1 mm here?' in a few plain sentences."""
-    from ..workprecision import TARGET_ERROR, best_error, cheapest
+    from ..accuracy.workprecision import TARGET_ERROR, best_error, cheapest
 
     ours = [r for r in sweep.runs if r.simulator == "custom"]
     theirs = [r for r in sweep.runs if r.simulator == "mujoco"]
@@ -169,7 +169,7 @@ def plot_scene(sweep, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..workprecision import TARGET_ERROR
+    from ..accuracy.workprecision import TARGET_ERROR
 
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.2), sharey=True)
     panels = (("numerical error: ours vs reference, MuJoCo vs its own converged solution", True),
@@ -220,7 +220,7 @@ def _fmt(x, spec=".3g") -> str:
 
 
 def stability_rows(sweep) -> list[str]:
-    from ..stability_search import theory
+    from ..accuracy.stability_search import theory
 
     rows = []
     for lim in sweep.stability:
@@ -248,9 +248,9 @@ STABILITY_HEADER = [
 
 
 def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
-    from ..reference import REFERENCE_RTOL
-    from ..stability_search import ENERGY_GROWTH_LIMIT, QUIET_CONTACT_SHARE
-    from ..workprecision import GRID, LADDER, MUJOCO_CONVERGED_N, MUJOCO_LADDER, RUN_BUDGET
+    from ..accuracy.reference import REFERENCE_RTOL
+    from ..accuracy.stability_search import ENERGY_GROWTH_LIMIT, QUIET_CONTACT_SHARE
+    from ..accuracy.workprecision import GRID, LADDER, MUJOCO_CONVERGED_N, MUJOCO_LADDER, RUN_BUDGET
 
     lines = [
         "# What accuracy costs: work-precision and stability",
@@ -264,7 +264,7 @@ def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
         f"{REFERENCE_RTOL:g}, each contact switch (a point touching or leaving, the kink of the damping law; "
         f"the sign of omega under a sign(omega) rolling law) located as an event and the integration "
         f"restarted there "
-        f"(compare/reference.py). *Converged* = the change when the tolerance is tightened 100-fold.",
+        f"(compare/accuracy/reference.py). *Converged* = the change when the tolerance is tightened 100-fold.",
         f"- **Error**: distance between centres of mass, simulator against reference, every {GRID * 1e3:g} ms; "
         f"max and RMS (L2) over the run. MuJoCo's error is given twice: against its own converged solution "
         f"(RK4 at dt = {GRID / MUJOCO_CONVERGED_N:g} s: numerical error only) and against our reference "

@@ -13,8 +13,9 @@ from pathlib import Path
 
 from custom_sim import write_csv
 
-from . import metrics, plots
-from .comparison import Result, metrics_json
+from ..verdict import metrics
+from . import plots
+from ..verdict.comparison import Result, metrics_json
 
 TERM_CAUSES = {
     "impedance": "MuJoCo's penalty row reproduces k d + c v up to a relative 1e-4 (its impedance d = 1e-4 times "

@@ -3,7 +3,7 @@
 For every scene (following DiffEqDevTools' work-precision diagrams, PHYSICS.md "Accuracy
 against cost"):
 
-  reference    compare.reference: custom_sim's equations by DOP853 at tight tolerance with
+  reference    compare.accuracy.reference: custom_sim's equations by DOP853 at tight tolerance with
                every contact switch located as an event; its convergence is checked by the
                change when the tolerance is tightened 100-fold, and its sensitivity by the
                growth of a tiny change of the initial height (the error amplification).
@@ -22,7 +22,7 @@ Cost of a run: time of the stepping alone, the minimum over repeats after a warm
 error run is the warm-up), and force evaluations (ours counted by custom_sim; MuJoCo's
 counted as stages per step: 4 for RK4, else 1). The time is the CPU time of the stepping
 thread (`cpu_time`; equal to the wall time on an idle core, and not inflated by other
-processes on a shared machine: see compare/benchmark.py); `wall_time` is kept beside it.
+processes on a shared machine: see compare/accuracy/benchmark.py); `wall_time` is kept beside it.
 
 Runs are kept only where stable (stability_search.energy_verdict on the grid states); a rung
 predicted to take longer than RUN_BUDGET is skipped (the ladder stops there). The tasks run

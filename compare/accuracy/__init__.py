@@ -1,0 +1,1 @@
+"""Accuracy against cost: converged reference solutions, work-precision sweeps, stability search, benchmarks."""

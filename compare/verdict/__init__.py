@@ -1,0 +1,1 @@
+"""Verdicts: run a scenario in every simulator, measure the differences, judge each check."""
