@@ -31,14 +31,14 @@ def test_point_mass_touches_at_contact_height_and_never_turns():
 
 
 def test_t_shape_by_hand():
-    """The built-in T: bar 0.30 x 0.06 of 0.6 kg at y = 0.12, stem 0.06 x 0.24 of 0.4 kg at 0."""
+    """The built-in T: bar 0.30 x 0.06 of 0.9 kg at y = 0.12, stem 0.06 x 0.24 of 0.6 kg at 0."""
     p = mass_properties(load_scene("scenarios/t_shape_drop.toml").body)
-    # COM: y = (0.6 * 0.12 + 0.4 * 0) / 1.0 = 0.072 m
-    assert p.mass == pytest.approx(1.0, rel=REL)
+    # COM: y = (0.9 * 0.12 + 0.6 * 0) / 1.5 = 0.072 m
+    assert p.mass == pytest.approx(1.5, rel=REL)
     assert p.com == pytest.approx((0.0, 0.072), rel=REL)
-    # bar: 0.6 (0.09 + 0.0036) / 12 = 4.68e-3, plus 0.6 * 0.048^2 = 1.3824e-3
-    # stem: 0.4 (0.0036 + 0.0576) / 12 = 2.04e-3, plus 0.4 * 0.072^2 = 2.0736e-3
-    assert p.inertia == pytest.approx(4.68e-3 + 1.3824e-3 + 2.04e-3 + 2.0736e-3, rel=1e-9)
+    # bar: 0.9 (0.09 + 0.0036) / 12 = 7.02e-3, plus 0.9 * 0.048^2 = 2.0736e-3
+    # stem: 0.6 (0.0036 + 0.0576) / 12 = 3.06e-3, plus 0.6 * 0.072^2 = 3.1104e-3
+    assert p.inertia == pytest.approx(7.02e-3 + 2.0736e-3 + 3.06e-3 + 3.1104e-3, rel=1e-9)
     # eight corners relative to the COM: the stem's foot at y = -0.12 - 0.072
     assert len(p.points) == 8
     assert p.points[:, 1].min() == pytest.approx(-0.192, rel=REL)

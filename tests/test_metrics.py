@@ -97,8 +97,8 @@ def test_rest_and_rolling_times_of_the_simulator():
 def test_tolerance_terms_follow_the_physics():
     point = load_scene("scenarios/point_drop.toml")
     tol = tolerance.derive(point)
-    # dropped from 0.6 m with contact_height 0.05: H = 0.55 m; zeta = 60 / (2 sqrt(1e4)) = 0.3
-    e_c = tolerance.compression_restitution(0.3)
+    # dropped from 0.6 m with contact_height 0.05: H = 0.55 m; zeta = 60 / (2 sqrt(1e4 * 0.5))
+    e_c = tolerance.compression_restitution(60 / (2 * math.sqrt(0.5e4)))
     assert tol.terms["damping law"] == pytest.approx(0.55 * e_c**2)
     v_max = math.sqrt(1.0 + 2 * 9.81 * 0.55)  # sideways 1 m/s and the fall's speed
     assert tol.terms["switching"] == pytest.approx(2 * v_max * 1e-4)

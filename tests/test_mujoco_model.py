@@ -42,9 +42,9 @@ def test_t_shape_off_axis_inertias_by_hand():
     """Boards as deep as their smaller side (t = 0.06 m): Ixx = sum m ((h^2 + t^2)/12 + dz^2)."""
     ixx, iyy, izz = build_model(load("t_shape_drop")).body_inertia[1]
     t2 = 0.06 ** 2
-    assert ixx == pytest.approx(0.6 * ((0.0036 + t2) / 12 + 0.048 ** 2) + 0.4 * ((0.0576 + t2) / 12 + 0.072 ** 2), rel=REL)
-    assert izz == pytest.approx(0.6 * (0.09 + t2) / 12 + 0.4 * (0.0036 + t2) / 12, rel=REL)
-    assert iyy == pytest.approx(4.68e-3 + 1.3824e-3 + 2.04e-3 + 2.0736e-3, rel=1e-9)
+    assert ixx == pytest.approx(0.9 * ((0.0036 + t2) / 12 + 0.048 ** 2) + 0.6 * ((0.0576 + t2) / 12 + 0.072 ** 2), rel=REL)
+    assert izz == pytest.approx(0.9 * (0.09 + t2) / 12 + 0.6 * (0.0036 + t2) / 12, rel=REL)
+    assert iyy == pytest.approx(7.02e-3 + 2.0736e-3 + 3.06e-3 + 3.1104e-3, rel=1e-9)
 
 
 @pytest.mark.parametrize("scene", BUILTINS, ids=IDS)
