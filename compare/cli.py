@@ -19,6 +19,7 @@ COMMANDS = {
     "list": "compare.commands.list_scenes",
     "run": "compare.commands.run",
     "mjcf": "compare.commands.mjcf",
+    "scene": "compare.commands.scene",
     "sweep": "compare.commands.sweep",
     "bench": "compare.commands.bench",
     "play": "compare.commands.play",
