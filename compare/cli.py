@@ -65,6 +65,9 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args._main(args)
     except (SceneError, BadInput) as exc:
+        details = getattr(exc, "details", "")  # a user's simulator raised: its own frames, once
+        if details:
+            print(details, file=sys.stderr)
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
 

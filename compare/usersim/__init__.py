@@ -1,0 +1,9 @@
+"""A user's simulator under test: loading it (step function, whole run, CSV files), running
+it on a scene, and diagnosing where it departs from the seed's algorithm."""
+from .errors import UserCodeError
+from .loader import StepFunction, TrajectoryFiles, UserRun, WholeFunction, from_args, load_simulator
+from .run_user import run_user
+from .scene_dict import scene_dict
+
+__all__ = ["StepFunction", "TrajectoryFiles", "UserCodeError", "UserRun", "WholeFunction", "from_args",
+           "load_simulator", "run_user", "scene_dict"]

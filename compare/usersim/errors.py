@@ -1,0 +1,55 @@
+"""Faults of a user's simulator, reported as bad input with their own traceback, shortened.
+
+A user's function that raises is shown once: the frames of the user's own files only (not
+the harness's, not the standard library's or installed packages'), then the one error line.
+"""
+from __future__ import annotations
+
+import sys
+import sysconfig
+import traceback
+from pathlib import Path
+
+from ..cli import BadInput
+
+_HARNESS = [str(Path(__file__).resolve().parents[2] / pkg) for pkg in ("compare", "custom_sim", "mujoco_models")]
+_LIBRARIES = sorted({str(Path(p).resolve()) for key in ("stdlib", "platstdlib", "purelib", "platlib")
+                     if (p := sysconfig.get_paths().get(key))})
+
+
+class UserCodeError(BadInput):
+    """Bad input from a user's simulator: one line (str) and, where their code raised,
+    `details`: the traceback of their own frames."""
+
+    def __init__(self, message: str, details: str = ""):
+        super().__init__(message)
+        self.details = details
+
+
+def _own_frame(filename: str) -> bool:
+    try:
+        path = str(Path(filename).resolve())
+    except (OSError, ValueError):
+        return False
+    if filename.startswith("<"):
+        return False
+    return not any(path.startswith(p) for p in _HARNESS + _LIBRARIES)
+
+
+def user_traceback(exc: BaseException) -> str:
+    """The traceback of exc cut to the user's frames (all frames if none is theirs)."""
+    frames = traceback.extract_tb(exc.__traceback__)
+    own = [f for f in frames if _own_frame(f.filename)]
+    lines = ["Traceback (your code, most recent call last):\n"]
+    lines += traceback.format_list(own or frames)
+    lines += traceback.format_exception_only(type(exc), exc)
+    return "".join(lines).rstrip()
+
+
+def raised(where: str, exc: BaseException, expected: str) -> UserCodeError:
+    """`where` raised exc: one line naming it and the exception, the shortened traceback."""
+    first = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+    text = f"{type(exc).__name__}: {first}" if first else type(exc).__name__
+    return UserCodeError(f"{where} raised {text} (expected {expected})", user_traceback(exc))
+
+

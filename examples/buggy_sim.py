@@ -1,0 +1,83 @@
+"""examples/seed_sim.py with two mistakes put in, for the diagnosis to find.
+
+    python -m compare run --sim examples/buggy_sim.py:step
+
+Mistake 1: friction acts on the velocity of the centre of mass, vx, instead of the slip
+           velocity of the contact point, vx - omega r_y.
+Mistake 2: the box's inertia is m (w^2 + h^2) / 3 (about a corner) instead of / 12.
+
+`step(state, scene, dt)` takes the state [x, y, theta, vx, vy, omega] of the centre of mass
+and returns the state one step dt later. `scene` is the resolved scene (the dict
+`python -m compare scene SCENE --json` prints). It reads the mass properties from it, the
+contact points relative to the centre of mass and the force law, and steps with the scene's
+integrator (explicit, semi-implicit Euler or RK4; implicit Euler is not written here).
+"""
+import numpy as np
+
+
+def wrong_inertia(scene):
+    """MISTAKE 2: a box's inertia about a corner, m (w^2 + h^2) / 3, for every box."""
+    body, mp = scene["body"], scene["mass_properties"]
+    if body["shape"] == "box":
+        w, h = body["size"]
+        return body["mass"] * (w * w + h * h) / 3.0
+    if body["shape"] == "compound":
+        cx, cy = mp["com"]
+        return sum(p["mass"] * (p["size"][0] ** 2 + p["size"][1] ** 2) / 3.0
+                   + p["mass"] * ((p["offset"][0] - cx) ** 2 + (p["offset"][1] - cy) ** 2)
+                   for p in body["parts"])
+    return mp["inertia"]
+
+
+def accelerations(z, scene):
+    """(ax, ay, angular acceleration) at z: gravity, then each contact point (Algorithm 2)."""
+    x, y, theta, vx, vy, om = z
+    mp, ct, on = scene["mass_properties"], scene["contact"], scene["effects"]
+    m, inertia = mp["mass"], wrong_inertia(scene)
+    fx, fy, tau = 0.0, 0.0, 0.0
+    if "gravity" in on:
+        fy -= m * scene["g"]                                  # F <- [0, -m g]
+    if "contact" in on:
+        c, s = (np.cos(theta), np.sin(theta)) if mp["points_rotate"] else (1.0, 0.0)
+        for lx, ly in mp["contact_points"]:
+            rx, ry = c * lx - s * ly, s * lx + c * ly         # r_i <- R(theta) c_i^local
+            d = -(y + ry)                                     # depth below the ground y = 0
+            if d <= 0.0:
+                continue                                      # no force in the air
+            vcx, vcy = vx, vy + om * rx                       # MISTAKE 1: slip taken as vx
+            if ct["damping_law"] == "compression":
+                fn = ct["k"] * d + ct["c"] * max(0.0, -vcy)   # Algorithm 1, line 4
+            else:
+                fn = max(0.0, ct["k"] * d - ct["c"] * vcy)    # Kelvin-Voigt, never pulls
+            ft = -ct["mu"] * fn * np.tanh(ct["alpha"] * vcx) if "friction" in on else 0.0
+            fx += ft
+            fy += fn
+            tau += rx * fn - ry * ft                          # tau <- tau + r_i x F_i
+            if "rolling_friction" in on:                      # Algorithm 4, line 9
+                tau -= ct["mu_roll"] * fn * np.tanh(ct["roll_sharpness"] * om)
+    alpha = tau / inertia if mp["rotates"] else 0.0
+    return fx / m, fy / m, alpha
+
+
+def derivative(z, scene):
+    ax, ay, aw = accelerations(z, scene)
+    return np.array([z[3], z[4], z[5], ax, ay, aw])
+
+
+def step(state, scene, dt):
+    """One step of the scene's integrator (the seed's Numerical Integration slide)."""
+    z = np.asarray(state, dtype=float)
+    method = scene["integrator"]
+    if method == "semi_implicit_euler":                       # v <- v + a dt, then p <- p + v dt
+        a = accelerations(z, scene)
+        v = z[3:] + dt * np.array(a)
+        return np.concatenate([z[:3] + dt * v, v])
+    if method == "explicit_euler":                            # p <- p + v dt with the old v
+        return z + dt * derivative(z, scene)
+    if method == "rk4":
+        k1 = derivative(z, scene)
+        k2 = derivative(z + 0.5 * dt * k1, scene)
+        k3 = derivative(z + 0.5 * dt * k2, scene)
+        k4 = derivative(z + dt * k3, scene)
+        return z + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    raise NotImplementedError(f"integrator {method!r} is not written in this example")
