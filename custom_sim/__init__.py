@@ -8,10 +8,10 @@ from .integrators import INTEGRATORS, Integrator
 from .scene import Scene, SceneError, load_scene, parse_scene
 from .simulate import SimulationDiverged, Stepper, simulate
 from .stability import stable_step
-from .trajectory import Trajectory, read_csv, write_csv
+from .trajectory import CsvError, Trajectory, read_csv, write_csv
 
 __all__ = [
-    "INTEGRATORS", "Integrator", "MassProperties", "Scene", "SceneError", "SimulationDiverged",
+    "CsvError", "INTEGRATORS", "Integrator", "MassProperties", "Scene", "SceneError", "SimulationDiverged",
     "Stepper", "Trajectory", "load_scene", "mass_properties", "parse_scene", "read_csv",
     "simulate", "stable_step", "write_csv",
 ]

@@ -1,12 +1,26 @@
-"""The trajectory type both simulators return, and its CSV writer (columns of CONTRACT.md)."""
+"""The trajectory type both simulators return, and its CSV file: header row, then the initial
+state (t = 0) and the state after each step, columns t,x,y,theta,vx,vy,omega,energy."""
 from __future__ import annotations
 
+import csv
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 CSV_COLUMNS = ("t", "x", "y", "theta", "vx", "vy", "omega", "energy")
+REQUIRED_COLUMNS = CSV_COLUMNS[:7]   # energy (and any other column) is optional when reading
+CSV_FORMAT = "%.10g"                 # 10 significant digits: a relative rounding of at most 5e-10
+CSV_RELATIVE_ROUNDING = 5e-10        # what a write-then-read round trip may change, relative
+
+
+class CsvError(ValueError):
+    """A trajectory CSV that cannot be read: `file: where: what was expected`."""
+
+    def __init__(self, path: str | Path, where: str, message: str):
+        self.path, self.where = str(path), where
+        super().__init__(f"{path}: {where}: {message}")
 
 
 @dataclass(frozen=True)
@@ -50,14 +64,70 @@ class Trajectory:
 
 
 def write_csv(traj: Trajectory, path: str | Path) -> None:
-    """Header row, then one row per step (t = dt, 2 dt, ...): the state after each step."""
-    rows = np.column_stack([getattr(traj, c) if c != "energy" else traj.energy for c in CSV_COLUMNS])[1:]
+    """Header row, then one row per state: the initial state (t = 0), then the state after each
+    step (t = dt, 2 dt, ...), so row i of the file is row i of the Trajectory."""
+    rows = np.column_stack([getattr(traj, c) if c != "energy" else traj.energy for c in CSV_COLUMNS])
     if not np.all(np.isfinite(rows)):
         raise ValueError(f"refusing to write non-finite values to {path}")
-    np.savetxt(path, rows, delimiter=",", header=",".join(CSV_COLUMNS), comments="", fmt="%.10g")
+    np.savetxt(path, rows, delimiter=",", header=",".join(CSV_COLUMNS), comments="", fmt=CSV_FORMAT)
 
 
 def read_csv(path: str | Path) -> dict[str, np.ndarray]:
-    """Columns of a trajectory CSV by name."""
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    return {c: data[:, i] for i, c in enumerate(CSV_COLUMNS)}
+    """Columns of a trajectory CSV by header name: {name: array (rows,)}.
+
+    t,x,y,theta,vx,vy,omega are required, in any order; energy and any other named column are
+    returned when present. Every cell must be a finite number. Raises CsvError (a ValueError)
+    naming the file, the row (1 = the header) or column, and what was expected.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as err:
+        raise CsvError(path, "file", f"cannot be read ({err.strerror or err})") from None
+    lines = [(n, line) for n, line in enumerate(text.splitlines(), start=1) if line.strip()]
+    if not lines:
+        raise CsvError(path, "file", "is empty; expected a header row " + ",".join(CSV_COLUMNS))
+    header_row, header_line = lines[0]
+    header = [name.strip() for name in next(csv.reader([header_line]))]
+    seen = set()
+    for c, name in enumerate(header, start=1):
+        if not name:
+            raise CsvError(path, f"row {header_row} column {c}", "empty column name in the header")
+        if name in seen:
+            raise CsvError(path, f"row {header_row} column {c}", f"column {name!r} appears twice in the header")
+        seen.add(name)
+    missing = [name for name in REQUIRED_COLUMNS if name not in seen]
+    if missing:
+        raise CsvError(path, f"row {header_row} (header)",
+                       f"missing column{'s' if len(missing) > 1 else ''} {', '.join(missing)}; "
+                       f"expected at least {','.join(REQUIRED_COLUMNS)} (found {','.join(header)})")
+    if len(lines) == 1:
+        raise CsvError(path, "file", "has a header but no rows; expected at least the t = 0 row")
+    try:  # fast path: numpy parses the body; any fault is then located row by row below
+        data = np.loadtxt(path, delimiter=",", skiprows=header_row, ndmin=2)
+        ok = data.shape == (len(lines) - 1, len(header)) and bool(np.all(np.isfinite(data)))
+    except ValueError:
+        ok = False
+    if not ok:
+        data = _parse_rows(path, header, lines[1:])
+    return {name: data[:, c] for c, name in enumerate(header)}
+
+
+def _parse_rows(path: Path, header: list[str], lines: list[tuple[int, str]]) -> np.ndarray:
+    """The body of the file, cell by cell, raising CsvError at the first bad row or cell."""
+    data = np.empty((len(lines), len(header)))
+    for r, (row_no, line) in enumerate(lines):
+        cells = next(csv.reader([line]))
+        if len(cells) != len(header):
+            raise CsvError(path, f"row {row_no}",
+                           f"has {len(cells)} cells; expected {len(header)}, one per header column")
+        for c, cell in enumerate(cells):
+            where = f"row {row_no} column {c + 1} ({header[c]})"
+            try:
+                value = float(cell)
+            except ValueError:
+                raise CsvError(path, where, f"{cell.strip()!r} is not a number") from None
+            if not math.isfinite(value):
+                raise CsvError(path, where, f"{cell.strip()} is not a finite number")
+            data[r, c] = value
+    return data

@@ -57,9 +57,10 @@ def test_run_writes_the_contract_files(tmp_path):
     assert data["steps"] == 4000 and data["pass"] == (proc.returncode == 0)
     for sim in ("custom", "mujoco"):
         lines = (folder / f"trajectory_{sim}.csv").read_text().splitlines()
-        assert lines[0] == ",".join(CSV_COLUMNS) and len(lines) == 4001
+        assert lines[0] == ",".join(CSV_COLUMNS) and len(lines) == 4002  # header, t = 0, 4000 steps
         cols = read_csv(folder / f"trajectory_{sim}.csv")
-        assert cols["t"][0] == pytest.approx(1e-4) and np.all(np.isfinite(cols["energy"]))
+        assert cols["t"][0] == 0.0 and cols["t"][1] == pytest.approx(1e-4)
+        assert cols["y"][0] == pytest.approx(0.6) and np.all(np.isfinite(cols["energy"]))
     index = (out / "index.md").read_text()
     assert "[point_drop_short](point_drop_short/index.md)" in index
     assert not [p for p in out.iterdir() if p.name.startswith(".")], "no temporary left behind"

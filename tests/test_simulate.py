@@ -1,12 +1,11 @@
-"""Whole runs: determinism, counts of force evaluations, CSV output, divergence."""
+"""Whole runs: determinism, counts of force evaluations, divergence (CSV files: test_trajectory_csv.py)."""
 import dataclasses
 import hashlib
 
 import numpy as np
 import pytest
 
-from custom_sim import INTEGRATORS, SimulationDiverged, Stepper, load_scene, read_csv, simulate, write_csv
-from custom_sim.trajectory import CSV_COLUMNS
+from custom_sim import INTEGRATORS, SimulationDiverged, Stepper, load_scene, simulate
 from compare.scenarios import builtin_paths
 
 
@@ -36,18 +35,6 @@ def test_stepper_reproduces_simulate():
     for _ in range(10):
         stepper.advance(scene.steps // 10)
     assert np.array_equal(stepper.state, tr.states()[-1])
-
-
-def test_csv_has_the_contract_columns(tmp_path):
-    scene = dataclasses.replace(load_scene("scenarios/point_drop.toml"), duration=0.01)
-    tr = simulate(scene)
-    path = tmp_path / "t.csv"
-    write_csv(tr, path)
-    assert path.read_text().splitlines()[0] == ",".join(CSV_COLUMNS)
-    cols = read_csv(path)
-    assert len(cols["t"]) == scene.steps  # one row per step, the state after it
-    assert cols["t"][0] == pytest.approx(scene.dt)
-    assert np.allclose(cols["energy"], tr.energy[1:], rtol=1e-9)
 
 
 def stiff_drop(scene_factory, dt, integrator="semi_implicit_euler"):
