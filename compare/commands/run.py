@@ -21,6 +21,24 @@ def add_arguments(parser) -> None:
     parser.add_argument("scenes", nargs="*", metavar="SCENE", help="built-in name or path to a .toml (default: all built-ins)")
     parser.add_argument("--out", default="reports", metavar="DIR", help="output folder (default: reports/)")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="scenarios run at once (default: every core)")
+    user = parser.add_argument_group(
+        "the simulator under test (default: custom_sim)",
+        "Your own simulator, held to the same checks (docs/validate-your-simulator.md).\n"
+        "state = [x, y, theta, vx, vy, omega] of the centre of mass (m, m, rad, m/s, m/s, rad/s);\n"
+        "scene = the resolved scene as plain dicts and floats, exactly what\n"
+        "`python -m compare scene SCENE --json` prints (mass_properties, contact_points, state0).")
+    which = user.add_mutually_exclusive_group()
+    which.add_argument("--sim", metavar="MODULE:FUNCTION",
+                       help="a step function step(state, scene, dt) -> state (6 numbers), called once per step "
+                            "from the t = 0 state; MODULE is a dotted module or a path to a .py file. "
+                            "A module-level INTEGRATOR = \"rk4\" names the integrator it implements "
+                            "(default: the scene's)")
+    user.add_argument("--whole", action="store_true",
+                      help="with --sim: FUNCTION is simulate(scene) -> array (steps + 1, 6), row 0 the t = 0 "
+                           "state (a 7th column, if any, is the energy in J)")
+    which.add_argument("--trajectories", metavar="DIR",
+                       help="precomputed runs DIR/<scene name>.csv, columns by header name: t,x,y,theta,vx,vy,omega "
+                            "required (energy optional), first row t = 0, then one row per step of dt")
 
 
 def run_one(scene, out: str):
