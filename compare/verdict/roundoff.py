@@ -26,18 +26,53 @@ from functools import lru_cache
 
 import numpy as np
 
-from custom_sim import Scene, Stepper, simulate
-from custom_sim.integrators import NEWTON_TOL
+from numba import njit
+
+from custom_sim import INTEGRATORS, Scene, simulate
+from custom_sim.integrators import (EXPLICIT_EULER, IMPLICIT_EULER, NEWTON_TOL, SEMI_IMPLICIT_EULER,
+                                    explicit_euler_step, implicit_euler_step, rk4_step,
+                                    semi_implicit_euler_step)
+from custom_sim.model import build_model, initial_state
 from custom_sim.scene import Initial
 
-INJECTED_ULPS = 2        # per component per step: a sum of a few rounded terms in another order
+INJECTED_ULPS = 2        # per component per step, relative (eps |z|): a few rounded terms in another order
 INJECTION_SEEDS = (1, 2)
 # Implicit Euler's Newton solve stops once its update is below NEWTON_TOL (m/s): a faithful
 # implicit Euler with its own solver may land anywhere within that of custom_sim's velocity.
 IMPLICIT_VELOCITY_SPREAD = NEWTON_TOL
 SAFETY = 10.0
 FLOOR_ULPS = 64          # a run where round-off never grows still differs by a few ulps per step
-MAX_INJECTED_STEPS = 100_000   # longer runs: every k-th step, k ulps' random walk sqrt(k) each
+EPS = float(np.finfo(float).eps)
+
+
+def _clear_stale_kernel() -> None:
+    """The kernel below inlines custom_sim's step functions, and numba checks a cached function
+    against its own file only: clear its cache when this file or any custom_sim source changes
+    (as custom_sim/compile_cache.py does for custom_sim's own)."""
+    import hashlib
+    from pathlib import Path
+
+    import custom_sim
+    here = Path(__file__).resolve()
+    sources = sorted(Path(custom_sim.__file__).resolve().parent.glob("*.py")) + [here]
+    digest = hashlib.sha256(b"".join(p.read_bytes() for p in sources)).hexdigest()
+    cache = here.parent / "__pycache__"
+    stamp = cache / "roundoff_numba_sources.sha256"
+    try:
+        if stamp.read_text() == digest:
+            return
+    except OSError:
+        pass
+    try:
+        cache.mkdir(exist_ok=True)
+        for stale in [*cache.glob("roundoff.*.nbi"), *cache.glob("roundoff.*.nbc")]:
+            stale.unlink(missing_ok=True)
+        stamp.write_text(digest)
+    except OSError:
+        pass
+
+
+_clear_stale_kernel()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -67,33 +102,44 @@ def _deviation(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
     return float(np.max(np.hypot(d[:, 0], d[:, 1]))), float(np.max(np.abs(d[:, 2])))
 
 
+@njit(cache=True)
+def _stepped_with_rounding(model, points, z, h, n, method, noise, out):
+    """custom_sim's own step functions, n steps from z, each followed by noise[i, j] * eps * |z_j|
+    added to each component (relative rounding); the state after step i into out[i]."""
+    counters = np.zeros(4, dtype=np.int64)
+    work = np.zeros((18, 6))
+    for i in range(n):
+        if method == SEMI_IMPLICIT_EULER:
+            semi_implicit_euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters)
+        elif method == EXPLICIT_EULER:
+            explicit_euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters)
+        elif method == IMPLICIT_EULER:
+            implicit_euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters, work)
+        else:
+            rk4_step(model, points, z, h, 0.0, 0.0, 0.0, counters, work)
+        for j in range(6):
+            z[j] += noise[i, j] * EPS * abs(z[j])
+            if j >= 3:
+                z[j] += noise[i, 6 + j - 3]
+            out[i, j] = z[j]
+
+
 def _injected_run(scene: Scene, seed: int, implicit: bool) -> np.ndarray:
     """custom_sim stepped with random per-step rounding added to each component."""
     n = scene.steps
-    stride = max(1, -(-n // MAX_INJECTED_STEPS))
-    ulps = INJECTED_ULPS * np.sqrt(stride)
     rng = np.random.default_rng(seed)
-    stepper = Stepper(scene)
+    noise = np.zeros((n, 9))
+    noise[:, :6] = rng.uniform(-INJECTED_ULPS, INJECTED_ULPS, (n, 6))
+    if implicit:
+        noise[:, 6:] = rng.uniform(-IMPLICIT_VELOCITY_SPREAD, IMPLICIT_VELOCITY_SPREAD, (n, 3))
+    if scene.body.shape == "point":
+        noise[:, 2] = noise[:, 5] = noise[:, 8] = 0.0
+    model, points = build_model(scene)
     out = np.empty((n + 1, 6))
-    out[0] = stepper.state
-    turns = scene.body.shape != "point"
-    done = 0
-    while done < n:
-        k = min(stride, n - done)
-        z = stepper.advance(k)
-        kick = rng.uniform(-ulps, ulps, 6) * np.spacing(np.abs(z))
-        if implicit:
-            kick[3:] += rng.uniform(-1.0, 1.0, 3) * IMPLICIT_VELOCITY_SPREAD
-        if not turns:
-            kick[2] = kick[5] = 0.0
-        z += kick
-        done += k
-        out[done] = z
-    if stride > 1:  # rows between injections: the plain steps, recorded only at the injections
-        rows = np.arange(0, n + 1, stride)
-        rows = np.append(rows, n) if rows[-1] != n else rows
-        return out[rows], rows
-    return out, None
+    z = initial_state(scene)
+    out[0] = z
+    _stepped_with_rounding(model, points, z, scene.dt, n, INTEGRATORS[scene.integrator].code, noise, out[1:])
+    return out
 
 
 @lru_cache(maxsize=64)
@@ -103,8 +149,7 @@ def roundoff_envelope(scene: Scene) -> Envelope:
     implicit = scene.integrator == "implicit_euler"
     ens_p = ens_a = 0.0
     for seed in INJECTION_SEEDS:
-        run, rows = _injected_run(scene, seed, implicit)
-        p, a = _deviation(run, plain if rows is None else plain[rows])
+        p, a = _deviation(_injected_run(scene, seed, implicit), plain)
         ens_p, ens_a = max(ens_p, p), max(ens_a, a)
     z0 = _initial_state(scene)
     turns = scene.body.shape != "point"
