@@ -204,3 +204,17 @@ def test_a_simulator_pickles_for_the_process_pool(scene):
     import pickle
     sim = pickle.loads(pickle.dumps(load_simulator(SEED + ":step")))
     assert sim.call(scene_dict(scene)["state0"], scene_dict(scene), scene.dt).shape == (6,)
+
+
+def test_a_step_returning_lists_or_changing_its_input_in_place(tmp_path, scene):
+    """Both record the same states as the worked example's fresh arrays."""
+    want = run_user(load_simulator(SEED + ":step"), scene).states()
+    for name, body in {"as_list": "return list(seed_sim.step(state, scene, dt))",
+                       "in_place": "state[:] = seed_sim.step(state, scene, dt)\n    return state"}.items():
+        spec = module(tmp_path, f"import sys\nsys.path.insert(0, {str(ROOT / 'examples')!r})\nimport seed_sim\n"
+                                f"def step(state, scene, dt):\n    {body}\n", name) + ":step"
+        assert np.array_equal(run_user(load_simulator(spec), scene).states(), want), name
+    spec = module(tmp_path, "def step(state, scene, dt):\n    z = [state[0], state[1] - 1e-5, *state[2:6]]\n"
+                            "    return z if z[1] > 0.2999 else z + [0.0]\n", "longer") + ":step"
+    message, _ = fails(spec, scene)
+    assert "another length at a later step" in message

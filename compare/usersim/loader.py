@@ -143,7 +143,11 @@ def _state_text(z) -> str:
 
 
 class StepFunction:
-    """`step(state, scene, dt) -> state`, called in a plain Python loop."""
+    """`step(state, scene, dt) -> state`, called in a plain Python loop.
+
+    The first call gets a numpy array (float, length 6); each later call gets what the previous
+    one returned (a numpy array or a list of 6 numbers), so the harness adds only a call and a
+    copy per step (python -m compare.usersim.overhead measures it)."""
 
     kind = "step"
 
@@ -164,6 +168,7 @@ class StepFunction:
             out = self.function(np.array(state, dtype=float), scene_d, dt)
         except Exception as exc:  # noqa: BLE001
             raise raised(f"{self.spec} at step {step}", exc, f"a state {STATE}") from None
+        self._first_returned = out
         return _as_state(out, self.spec, step)
 
     def run(self, scene: Scene) -> UserRun:
@@ -172,22 +177,41 @@ class StepFunction:
         out = np.empty((n + 1, 6))
         out[0] = initial_state(scene)
         out[1] = self.call(out[0], sd, dt, 1)  # the first call checked in full
-        z = out[1].copy()
+        as_list = isinstance(self._first_returned, (list, tuple))
+        z = list(out[1]) if as_list else out[1].copy()
         i = 1
         start = time.perf_counter()
         try:
-            # the harness's whole cost per step: one call and one row copied
-            for i in range(2, n + 1):
-                z = step(z, sd, dt)
-                out[i] = z
+            if as_list:
+                # a step returning a list: its numbers appended flat (a list copies floats,
+                # so a list changed in place later cannot corrupt the rows), one array at the end
+                flat = []
+                append = flat.extend
+                for i in range(2, n + 1):
+                    z = step(z, sd, dt)
+                    append(z)
+            else:
+                # the harness's whole cost per step: one call and one row copied
+                for i in range(2, n + 1):
+                    z = step(z, sd, dt)
+                    out[i] = z
         except Exception as exc:  # noqa: BLE001
-            wall = None
-            if exc.__traceback__.tb_next is None:  # raised by `out[i] = z`: not a state
+            if exc.__traceback__.tb_next is None:  # raised by our own line: not a state
                 _as_state(z, self.spec, i)
                 raise UserCodeError(f"{self.spec} returned {type(z).__name__} at step {i} "
                                     f"(expected 6 numbers {STATE})") from None
             raise raised(f"{self.spec} at step {i} (t = {i * dt:.6g} s, from state "
-                         f"{_state_text(out[i - 1])})", exc, f"a state {STATE}") from None
+                         f"{_state_text(out[i - 1] if not as_list else z)})", exc, f"a state {STATE}") from None
+        if as_list and n > 1:
+            if len(flat) != 6 * (n - 1):
+                raise UserCodeError(f"{self.spec} returned a list of 6 numbers at step 1 but of another length at a "
+                                    f"later step ({len(flat)} numbers over {n - 1} steps; expected 6 numbers {STATE} "
+                                    "every step; note that from step 2 on it is given back the list it returned)")
+            try:
+                out[2:] = np.fromiter(flat, dtype=float, count=len(flat)).reshape(n - 1, 6)
+            except (TypeError, ValueError):
+                raise UserCodeError(f"{self.spec} returned a list holding something other than numbers after "
+                                    f"step 1 (expected 6 numbers {STATE} every step)") from None
         wall = time.perf_counter() - start
         bad = _first_bad_row(out)
         if bad >= 0:
