@@ -357,6 +357,18 @@ class TrajectoryFiles:
                        written_digits(states))
 
 
+def preflight(simulator, scenes) -> None:
+    """Find bad input before anything is written: every scene's CSV read and checked; a step
+    function called once from each scene's initial state. (A fault later in a run is still
+    raised by run_user; a whole-run function is only checked by running it.)"""
+    for scene in scenes:
+        if simulator.kind == "trajectories":
+            simulator.run(scene)
+        elif simulator.kind == "step":
+            simulator.call(initial_state(scene), scene_dict(scene), scene.dt, 1)
+        simulator.integrator(scene)
+
+
 def load_simulator(spec: str | None = None, whole: bool = False, trajectories: str | None = None):
     """The simulator under test: --sim spec (a step function, or with whole=True a simulate
     function), or trajectories=DIR (a folder of CSVs). None when neither is given (custom_sim)."""
