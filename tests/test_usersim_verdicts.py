@@ -146,3 +146,17 @@ def test_csv_route_with_ten_digits(tmp_path):
                comments="", fmt="%.10g")
     row, _ = identical(files, scene)
     assert row["pass"] is False
+
+
+def test_beyond_the_divergence_horizon_nothing_is_judged():
+    """A box balanced on its corner topples the way its last digit says: round-off alone grows
+    to a millimetre within half a second of landing. `identical` judges up to that horizon and
+    says so, rather than allowing a tolerance as large as the motion."""
+    from custom_sim import simulate
+    scene = load("corner_landing")
+    envelope = roundoff_envelope(scene)
+    assert 0 < envelope.horizon < scene.steps + 1
+    assert envelope.position <= 1e-3 * envelope.motion_size * 1.0001
+    row = check_identical(scene, simulate(scene).states(), scene.integrator, scene.dt)
+    assert row["pass"] is True and row["judged_whole_run"] is False and "judged up to t =" in row["reason"]
+    assert row["judged_until"] < scene.duration
