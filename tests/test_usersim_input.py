@@ -218,3 +218,20 @@ def test_a_step_returning_lists_or_changing_its_input_in_place(tmp_path, scene):
                             "    return z if z[1] > 0.2999 else z + [0.0]\n", "longer") + ":step"
     message, _ = fails(spec, scene)
     assert "another length at a later step" in message
+
+
+def test_an_energy_column_and_a_declared_integrator_are_taken(tmp_path, scene):
+    folder = tmp_path / "with_energy"
+    states = simulate(scene).states()
+    rows = np.column_stack([np.arange(len(states)) * scene.dt, states, np.full(len(states), 2.5)])
+    write_csv(folder, scene, header="t,x,y,theta,vx,vy,omega,energy", rows=rows)
+    (folder / "simulator.toml").write_text('integrator = "verlet"\n')
+    traj = run_user(load_simulator(trajectories=str(folder)), scene)
+    assert traj.meta["energy_source"] == "user" and np.allclose(traj.energy, 2.5)
+    assert traj.integrator == "verlet"
+
+
+def test_the_error_survives_a_process_pool():
+    import pickle
+    err = pickle.loads(pickle.dumps(UserCodeError("one line", "Traceback ...")))
+    assert isinstance(err, BadInput) and str(err) == "one line" and err.details == "Traceback ..."

@@ -160,3 +160,13 @@ def test_beyond_the_divergence_horizon_nothing_is_judged():
     row = check_identical(scene, simulate(scene).states(), scene.integrator, scene.dt)
     assert row["pass"] is True and row["judged_whole_run"] is False and "judged up to t =" in row["reason"]
     assert row["judged_until"] < scene.duration
+
+
+def test_an_unknown_integrator_is_not_diagnosed_but_said(tmp_path):
+    path = tmp_path / "verlet.py"
+    path.write_text(f"import sys\nsys.path.insert(0, {str(ROOT / 'examples')!r})\nfrom seed_sim import step\n"
+                    "INTEGRATOR = 'verlet'\n")
+    sim = load_simulator(f"{path}:step")
+    scene = dataclasses.replace(load("box_slide"), duration=0.02)
+    diag = diagnosis(sim, scene, run_user(sim, scene).states())
+    assert diag["named"] == [] and "verlet" in diag["verdict"] and "not" in diag["verdict"]
