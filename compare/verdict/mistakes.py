@@ -33,6 +33,7 @@ from .step_check import COMPONENTS, check_step, phase, split_arrays, step_residu
 # Steps of a failing trajectory a variant is screened on before the whole trajectory is
 # stepped with it: the correct step's first failures (where a mistake shows) and a spread.
 SCREEN_STEPS = 400
+FIRST_SCREEN = 8      # the correct step's first failures: most variants are ruled out there
 
 
 @dataclass(frozen=True)
@@ -259,15 +260,18 @@ def _entry(m: Mistake) -> dict:
 
 
 def _explains(m: Mistake, scene, states, integrator, dt, screen) -> dict:
-    """The variant's residual over the screened steps, then (if it survives) over all."""
+    """The variant's residual over each set of screened steps in turn, then (if it survives)
+    over the whole trajectory."""
     eq = m.equations(scene)
     method = m.integrator(integrator)
-    z0, z1 = states[screen], states[screen + 1]
-    mine, bound, solved = one_step(eq, z0, dt, method, m.law)
-    # a screened step off by more than round-off rules the variant out (where implicit Euler
-    # has no root the jump test decides, on the whole trajectory below)
-    if (solved is None or solved.all()) and not np.all(np.abs(mine - z1) <= bound):
-        return {**_entry(m), "explains": False, "screened_out": True}
+    for rows in screen:
+        z0, z1 = states[rows], states[rows + 1]
+        mine, bound, solved = one_step(eq, z0, dt, method, m.law)
+        # a screened step off by more than round-off rules the variant out (where implicit
+        # Euler has no root the jump test decides, on the whole trajectory below)
+        rooted = np.ones(len(rows), dtype=bool) if solved is None else solved
+        if not np.all(np.abs(mine - z1)[rooted] <= bound[rooted]):
+            return {**_entry(m), "explains": False, "screened_out": True}
     res = step_residuals(eq, states, method, dt, m.law)
     over = res.over.any(axis=1)
     first = int(np.argmax(over)) if over.any() else None
@@ -298,7 +302,8 @@ def diagnose(scene, states, integrator: str, dt: float) -> dict:
     res = step_residuals(eq, states, integrator, dt)
     failing = np.flatnonzero(res.over.any(axis=1))
     spread = np.linspace(0, states.shape[0] - 2, SCREEN_STEPS // 2).astype(int)
-    screen = np.unique(np.concatenate([failing[:SCREEN_STEPS // 2], spread]))
+    screen = (failing[:FIRST_SCREEN],
+              np.unique(np.concatenate([failing[:SCREEN_STEPS // 2], spread])))
     singles, pairs = _candidates(scene, integrator)
     tried = [_explains(m, scene, states, integrator, dt, screen) for m in singles]
     found = [t["name"] for t in tried if t["explains"]]

@@ -39,6 +39,10 @@ IMPLICIT_SOLVE_TOL = 1e-10
 # The independent Newton solve here goes a thousand times below that, to round-off.
 OWN_SOLVE_TOL = 1e-13
 NEWTON_MAX_ITERATIONS = 60
+# Near a root Newton at least halves |G| per iteration; SLOW_PATIENCE iterations in a row that do
+# not are a row creeping towards a jump of G (no root there), not towards a root.
+SLOW_PROGRESS = 0.5
+SLOW_PATIENCE = 8
 
 METHODS = ("explicit_euler", "semi_implicit_euler", "implicit_euler", "rk4")
 
@@ -108,11 +112,13 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
     G, scale = implicit_residual(eq, Z, V, h, law)
     size = np.max(np.abs(G), axis=1)
     solved = np.zeros(Z.shape[0], dtype=bool)
+    stuck = np.zeros(Z.shape[0], dtype=bool)   # no step lowers |G|: at a jump, or at round-off
+    slow = np.zeros(Z.shape[0], dtype=int)     # iterations in a row that did not halve |G|
     eye = np.eye(3)
     for _ in range(NEWTON_MAX_ITERATIONS):
         floor = 4.0 * EPS * np.max(np.abs(V) + h * scale, axis=1)
         solved = size <= np.maximum(OWN_SOLVE_TOL, floor)
-        todo = np.flatnonzero(~solved)
+        todo = np.flatnonzero(~solved & ~stuck)
         if todo.size == 0:
             break
         Zt, Vt, Gt = Z[todo], V[todo], G[todo]
@@ -131,7 +137,7 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
         t = np.ones(todo.size)
         best_V, best_G, best_size, best_scale = Vt, Gt, size[todo], scale[todo]
         pending = np.ones(todo.size, dtype=bool)
-        for _ in range(40):
+        for _ in range(30):
             idx = np.flatnonzero(pending)
             Vtr = Vt[idx] + t[idx, None] * dv[idx]
             Gtr, str_ = implicit_residual(eq, Zt[idx], Vtr, h, law)
@@ -143,9 +149,10 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
             t[idx[~ok]] *= 0.5
             if not pending.any():
                 break
+        slow[todo] = np.where(best_size > SLOW_PROGRESS * size[todo], slow[todo] + 1, 0)
         V[todo], G[todo], size[todo], scale[todo] = best_V, best_G, best_size, best_scale
-        if pending.all():
-            break  # no row improves: at a jump, or at round-off
+        stuck[todo[pending]] = True
+        stuck[todo[slow[todo] >= SLOW_PATIENCE]] = True
     floor = 4.0 * EPS * np.max(np.abs(V) + h * scale, axis=1)
     solved = size <= np.maximum(OWN_SOLVE_TOL, floor)
     q1 = Z[:, :3] + h * V

@@ -191,7 +191,7 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
         where = phase(eq, states[i], states[i + 1])
         if res.no_root[i]:
             where = (f"touchdown of point {_point_name(eq, int(res.jump_point[i]))} where the implicit "
-                     f"equation has no root (judged at the jump); before it: {where}")
+                     f"equation has no root (judged at the jump); before it: {phase(eq, states[i])}")
         row.update(first_step=i + 1, first_time=float((i + 1) * dt), phase=where,
                    component=COMPONENTS[comp],
                    failing_steps=int(failing.size),
