@@ -171,3 +171,26 @@ def test_friction_on_com_velocity_shows_while_sliding_and_turning():
     row = check_step(sc, seed_box.run(sc, z0, sc.steps, friction_at_com=True),
                      "semi_implicit_euler", sc.dt)
     assert row["pass"] is False and "sliding" in row["phase"] and row["component"] == "vx"
+
+
+# A CSV of 10 significant digits (custom_sim.write_csv, "%.10g"): half a unit in the tenth digit.
+CSV_RTOL = 5e-10
+
+
+@pytest.mark.parametrize("name, integrator", [("box_drop", "semi_implicit_euler"), ("rolling_circle", "rk4"),
+                                              ("point_drop", "implicit_euler")])
+def test_states_read_from_text_hold_to_their_rounding(tmp_path, name, integrator):
+    """Rounded to 10 digits the states are no longer bit-exact: the check then holds them to
+    their own rounding, and still catches a 10 % inertia error."""
+    sc = window(load(name), integrator, 5000)   # through the first contact
+    traj = custom_sim.simulate(sc)
+    custom_sim.write_csv(traj, tmp_path / "t.csv")
+    rows = np.loadtxt(tmp_path / "t.csv", delimiter=",", skiprows=1)[:, 1:7]
+    states = np.vstack([traj.states()[:1], rows])
+    assert check_step(sc, states, integrator, sc.dt)["pass"] is False  # beyond double round-off
+    assert check_step(sc, states, integrator, sc.dt, input_rtol=CSV_RTOL)["pass"] is True
+    if sc.body.shape != "point":
+        props = custom_sim.mass_properties(sc.body)
+        wrong, _ = run_custom(sc, dataclasses.replace(props, inertia=1.1 * props.inertia))
+        rounded = np.array([[float(f"{v:.10g}") for v in z] for z in wrong])
+        assert check_step(sc, rounded, integrator, sc.dt, input_rtol=CSV_RTOL)["pass"] is False
