@@ -194,3 +194,13 @@ def test_states_read_from_text_hold_to_their_rounding(tmp_path, name, integrator
         wrong, _ = run_custom(sc, dataclasses.replace(props, inertia=1.1 * props.inertia))
         rounded = np.array([[float(f"{v:.10g}") for v in z] for z in wrong])
         assert check_step(sc, rounded, integrator, sc.dt, input_rtol=CSV_RTOL)["pass"] is False
+
+
+def test_bound_is_tight_a_part_per_billion_in_k_fails():
+    """The bound is round-off, not a tolerance: a stiffness off by one part in 1e9 (a force
+    change of ~5e-9 N on point_drop's contact) is over it at the first contact step."""
+    sc = window(load("point_drop"), "semi_implicit_euler", 4000)
+    off = dataclasses.replace(sc, contact=dataclasses.replace(sc.contact, k=sc.contact.k * (1 + 1e-9)))
+    states, _ = run_custom(off)
+    row = check_step(sc, states, "semi_implicit_euler", sc.dt)
+    assert row["pass"] is False and row["phase"].startswith(("contact", "touchdown"))
