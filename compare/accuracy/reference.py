@@ -1,7 +1,8 @@
 """Reference solutions: custom_sim's equations solved far more accurately than any fixed step.
 
-The equations are those of custom_sim/forces.py (written again here, independently, in plain
-Python floats; only the geometry comes from custom_sim.mass_properties):
+The equations are those of custom_sim/forces.py, written again here, independently, in plain
+Python floats; the geometry too is computed here (compare/accuracy/rigid_body.py: area moments
+by Green's theorem), so that nothing checked against the reference is shared with custom_sim:
 
     m v' = sum_i (Ft_i, Fn_i) + (0, -m g)          I omega' = sum_i (r_i x F_i) - mu_roll Fn s(omega)
     d_i  = -(y + r_iy)  touching while d_i > 0      vc_i = v + omega x r_i
@@ -37,7 +38,9 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from custom_sim import Scene, mass_properties
+from custom_sim import Scene
+
+from .rigid_body import RigidBody, rigid_body
 
 # Tight tolerances of the adaptive solver. DOP853 holds its local error below
 # atol + rtol |z| per step; 1e-11 on states of order 1 (m, m/s, rad) keeps the accumulated
@@ -64,7 +67,7 @@ SPIN_BAND = 1e-14            # rad/s
 ZENO_EVENTS = 50
 ZENO_WINDOW = 1e-9          # s
 
-REFERENCE_VERSION = 2       # bump when the equations or the method change (invalidates caches)
+REFERENCE_VERSION = 3       # bump when the equations or the method change (invalidates caches)
 
 COMPRESSION, LINEAR = "compression", "linear"
 
@@ -107,13 +110,14 @@ class Equations:
     roll_sharpness: float | None = None   # s/rad: tanh law; None: sign(omega) law
 
     @classmethod
-    def from_scene(cls, scene: Scene) -> Equations:
-        props = mass_properties(scene.body)
+    def from_scene(cls, scene: Scene, body: RigidBody | None = None) -> Equations:
+        """The scene's equations; body: its mass properties (default: computed from the scene
+        file by rigid_body, never custom_sim's)."""
+        props = body or rigid_body(scene.body)
         ct = scene.contact
         return cls(
-            mass=props.mass, inertia=props.inertia,
-            points=tuple((float(p[0]), float(p[1])) for p in props.points),
-            turning=props.points_rotate, rotates=props.rotates,
+            mass=props.mass, inertia=props.inertia, points=props.points,
+            turning=props.turning, rotates=props.rotates,
             g=scene.g if scene.has("gravity") else 0.0,
             contact=scene.has("contact"), k=ct.k, c=ct.c, law=ct.damping_law,
             friction=scene.has("friction"), mu=ct.mu, alpha=ct.alpha,

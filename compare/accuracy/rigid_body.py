@@ -1,0 +1,98 @@
+"""Mass properties and contact points of a scene's body, computed here from the scene file alone.
+
+The checks must not share the quantity they check, so the reference does not take custom_sim's
+mass properties: it integrates the body's area moments itself, a different way.
+
+Box and compound: every part is a polygon of uniform density rho_j = m_j / A_j. By Green's
+theorem, for a polygon with vertices (x_i, y_i) counter-clockwise and c_i = x_i y_{i+1} - x_{i+1} y_i,
+
+    A      = sum_i c_i / 2
+    int x  = sum_i c_i (x_i + x_{i+1}) / 6          int y likewise
+    int (x^2 + y^2) = sum_i c_i (x_i^2 + x_i x_{i+1} + x_{i+1}^2 + y_i^2 + y_i y_{i+1} + y_{i+1}^2) / 12
+
+all about the body frame's origin. The mass is sum rho_j A_j, the COM sum rho_j int x / M, and
+the inertia about the COM I = sum_j rho_j int (x^2 + y^2) - M |com|^2: one polar moment about a
+common origin, shifted once, not a parallel-axis sum per part (custom_sim's way).
+Contact points are the polygons' vertices, relative to the COM.
+
+Disk: I = m R^2 / 2, one contact point straight below the centre, not turning with the body.
+Point mass: no rotation; the contact point sits contact_height below the COM (the seed's h_box).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from custom_sim import Scene
+from custom_sim.scene import Body
+
+
+@dataclass(frozen=True)
+class RigidBody:
+    """mass (kg), inertia about the COM (kg m^2, 0 for the point), COM in the scene's body
+    frame (m), contact points relative to the COM in the body frame (m, tuple of (x, y)),
+    turning: the points turn with theta; rotates: theta is a degree of freedom."""
+
+    mass: float
+    inertia: float
+    com: tuple[float, float]
+    points: tuple[tuple[float, float], ...]
+    turning: bool
+    rotates: bool
+
+
+def rectangle(size, centre=(0.0, 0.0)) -> np.ndarray:
+    """Vertices (4, 2) of a w x h rectangle around centre, counter-clockwise from bottom-left."""
+    w, h = size
+    cx, cy = centre
+    return np.array([[cx - w / 2, cy - h / 2], [cx + w / 2, cy - h / 2],
+                     [cx + w / 2, cy + h / 2], [cx - w / 2, cy + h / 2]], dtype=float)
+
+
+def area_moments(vertices: np.ndarray) -> tuple[float, float, float, float]:
+    """(A m^2, int x m^3, int y m^3, int (x^2 + y^2) m^4) of a simple polygon (n, 2),
+    counter-clockwise, about the origin: Green's theorem over its edges."""
+    x, y = vertices[:, 0], vertices[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    cross = x * yn - xn * y
+    area = cross.sum() / 2.0
+    sx = (cross * (x + xn)).sum() / 6.0
+    sy = (cross * (y + yn)).sum() / 6.0
+    polar = (cross * (x * x + x * xn + xn * xn + y * y + y * yn + yn * yn)).sum() / 12.0
+    return float(area), float(sx), float(sy), float(polar)
+
+
+def polygons_body(polygons, masses) -> RigidBody:
+    """A body of uniform-density polygons (each (n, 2), ccw) with the given masses (kg)."""
+    total, first, polar = 0.0, np.zeros(2), 0.0
+    for verts, m in zip(polygons, masses):
+        area, sx, sy, jz = area_moments(verts)
+        rho = m / area
+        total += m
+        first += rho * np.array([sx, sy])
+        polar += rho * jz
+    com = first / total
+    inertia = polar - total * float(com @ com)
+    pts = np.vstack(polygons) - com
+    return RigidBody(total, float(inertia), (float(com[0]), float(com[1])),
+                     tuple((float(px), float(py)) for px, py in pts), turning=True, rotates=True)
+
+
+def rigid_body(body: Body) -> RigidBody:
+    """The body's mass properties and contact points from the scene's geometry."""
+    if body.shape == "point":
+        return RigidBody(body.mass, 0.0, (0.0, 0.0), ((0.0, -float(body.contact_height)),),
+                         turning=False, rotates=False)
+    if body.shape == "circle":
+        R = float(body.radius)
+        return RigidBody(body.mass, body.mass * R * R / 2.0, (0.0, 0.0), ((0.0, -R),),
+                         turning=False, rotates=True)
+    if body.shape == "box":
+        return polygons_body([rectangle(body.size)], [body.mass])
+    return polygons_body([rectangle(p.size, p.offset) for p in body.parts],
+                         [p.mass for p in body.parts])
+
+
+def of_scene(scene: Scene) -> RigidBody:
+    return rigid_body(scene.body)
