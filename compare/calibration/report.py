@@ -125,6 +125,14 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
         e = s.errors
         lines.append(f"| {s.scene.name} | {'held out' if s.held_out else 'fitted'} | " +
                      " | ".join(_m(e[k]["position_error_max"]) for k in COLUMNS) + " |")
+    for s in cal.scenes:
+        e = {k: s.errors[k]["position_error_max"] for k in COLUMNS}
+        best = min((k for k in MAPPINGS if e[k] is not None), key=lambda k: e[k], default=None)
+        if best and (e["calibrated"] is None or e["calibrated"] > e[best]):
+            lines.append(f"\n**{s.scene.name}: the calibrated twin is worse than the {best} mapping** "
+                         f"({_m(e['calibrated'])} m against {_m(e[best])} m): the fitted settings compensate "
+                         f"something a contact setting cannot model in the fitted scenes (see below), and the "
+                         f"compensation does not carry over.")
     lines += ["", "Angle error max (rad):", "", "| scene | seed | physical | penalty | calibrated |",
               "|---|---|---|---|---|"]
     for s in cal.scenes:
