@@ -32,17 +32,22 @@ def short_drop():
     return dataclasses.replace(load("point_drop"), duration=0.45)
 
 
-def _synthetic(scene, gains):
-    """A target whose reference is the penalty twin itself with the given gains."""
-    target = prepare(scene, "penalty")
+POSITIVE = (PARAMETERS["solref.timeconst"], PARAMETERS["solref.dampratio"])
+
+
+def _synthetic(scene, gains, params=PARAMS, base="penalty"):
+    """A target whose reference is the base twin itself with the given gains."""
+    target = prepare(scene, base)
     with Batch(1) as b:
-        target.reference = b.paths(target, [calibrated(target.base, PARAMS, gains)])[0]
+        target.reference = b.paths(target, [calibrated(target.base, params, gains)])[0]
     return target
 
 
-def test_fit_recovers_the_gains_that_made_the_target(short_drop):
-    target = _synthetic(short_drop, [1.5, 0.7])
-    result = fit([target], PARAMS, max_iter=15)
+@pytest.mark.parametrize("params,base", [(PARAMS, "penalty"), (POSITIVE, "physical")],
+                         ids=["direct form", "positive form"])
+def test_fit_recovers_the_gains_that_made_the_target(short_drop, params, base):
+    target = _synthetic(short_drop, [1.5, 0.7], params, base)
+    result = fit([target], params, max_iter=15)
     assert result.converged, result.status
     assert result.values == pytest.approx([1.5, 0.7], rel=RECOVERY_TOLERANCE)
     assert result.objective[-1] < 1e-6 * result.objective[0]

@@ -18,7 +18,8 @@ import numpy as np
 from custom_sim import Scene, simulate
 from mujoco_models import MAPPINGS, build_twin
 
-from .fit import FitResult, fit
+from ..cli import BadInput
+from .fit import FitResult, fit, jacobian_cost
 from .settings import ContactSettings, calibrated, read_model, write_spec
 from .targets import Batch, Target, errors, prepare
 
@@ -46,6 +47,8 @@ class Calibration:
     base: str
     result: FitResult
     scenes: list[SceneReport]
+    jacobian: dict = field(default_factory=dict)   # fit.jacobian_cost
+    mapping_settings: dict = field(default_factory=dict)   # scene -> mapping -> ContactSettings
 
 
 def calibrated_spec(scene: Scene, base: str, target: Target, params, values):
@@ -77,7 +80,16 @@ def calibrate(fitted: list[Scene], held_out: list[Scene], params, base: str,
     scenes = [(s, False) for s in fitted] + [(s, True) for s in held_out]
     references = {s.name: simulate(s) for s, _ in scenes}
     targets = {s.name: prepare(s, base, references[s.name]) for s, _ in scenes}
-    result = fit([targets[s.name] for s in fitted], params, max_iter=max_iter, nthread=nthread)
+    if any(p.form == "positive" for p in params):
+        for s, _ in scenes:
+            ref = targets[s.name].base.settings.solref
+            if not (ref[0] > 0.0 and ref[1] > 0.0):
+                raise BadInput(f"{s.source}: contact.c: the physical mapping of c = 0 is in the direct form "
+                               f"{ref} (expected c > 0 to fit solref.timeconst/solref.dampratio)")
+    fit_targets = [targets[s.name] for s in fitted]
+    result = fit(fit_targets, params, max_iter=max_iter, nthread=nthread)
+    cost = jacobian_cost(fit_targets, params, nthread)
+    mapping_settings = {}
 
     reports = []
     with Batch(nthread) as batch:
@@ -87,6 +99,7 @@ def calibrate(fitted: list[Scene], held_out: list[Scene], params, base: str,
             for mapping in MAPPINGS:
                 t = target if mapping == base else prepare(scene, mapping, references[scene.name])
                 paths[mapping] = batch.paths(t, [t.base.settings])[0]
+                mapping_settings.setdefault(scene.name, {})[mapping] = t.base.settings
                 errs[mapping] = errors(target, paths[mapping])
             spec, settings = calibrated_spec(scene, base, target, params, result.values)
             compiled = spec.compile()
@@ -99,4 +112,4 @@ def calibrate(fitted: list[Scene], held_out: list[Scene], params, base: str,
             reports.append(SceneReport(scene, held, errs, paths, target.reference,
                                        np.arange(target.steps + 1) * target.dt, settings, xml,
                                        readback(params, settings, compiled, reloaded)))
-    return Calibration(tuple(params), base, result, reports)
+    return Calibration(tuple(params), base, result, reports, cost, mapping_settings)

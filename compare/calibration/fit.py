@@ -75,16 +75,7 @@ def fit(targets: list[Target], params, max_iter: int = MAX_ITERATIONS, nthread: 
     calls = [0]
 
     with Batch(nthread) as batch:
-        def residual(z: np.ndarray) -> np.ndarray:
-            z = np.atleast_2d(z.T).T                    # (n, k): one column per candidate
-            values = p0[:, None] * np.exp(z)
-            parts = []
-            for target in targets:
-                settings = [calibrated(target.base, params, values[:, j]) for j in range(z.shape[1])]
-                parts.append(residual_of(target, batch.paths(target, settings)))
-            calls[0] += z.shape[1]
-            return np.concatenate(parts, axis=1).T      # (m, k)
-
+        residual = make_residual(targets, params, p0, batch, calls)
         begin = time.perf_counter()
         text = io.StringIO()
         z, trace = minimize.least_squares(z0, residual, bounds=(lower, upper), eps=FD_STEP,
@@ -101,6 +92,39 @@ def fit(targets: list[Target], params, max_iter: int = MAX_ITERATIONS, nthread: 
     return FitResult(tuple(params), p0, p0 * np.exp(z), status, status in CONVERGED,
                      iterations, [float(t.objective) for t in trace], at_bound, wall,
                      steps, calls[0], log)
+
+
+def make_residual(targets: list[Target], params, p0: np.ndarray, batch: Batch, calls: list):
+    """minimize's residual: z (n, k) -> (m, k), the k candidates of each scene in one rollout."""
+    def residual(z: np.ndarray) -> np.ndarray:
+        z = np.atleast_2d(z.T).T                    # (n, k): one column per candidate
+        values = p0[:, None] * np.exp(z)
+        parts = []
+        for target in targets:
+            settings = [calibrated(target.base, params, values[:, j]) for j in range(z.shape[1])]
+            parts.append(residual_of(target, batch.paths(target, settings)))
+        calls[0] += z.shape[1]
+        return np.concatenate(parts, axis=1).T      # (m, k)
+    return residual
+
+
+def jacobian_cost(targets: list[Target], params, nthread: int = 2) -> dict:
+    """One finite-difference Jacobian's residual columns, timed two ways in one run: batched
+    (one rollout call per scene, k models over the threads) and one column per call (a
+    Python loop over the parameters). Same numbers both ways (checked), seconds each."""
+    p0 = start_values(params, targets)
+    z = FD_STEP * np.eye(len(params))
+    with Batch(nthread) as batch:
+        residual = make_residual(targets, params, p0, batch, [0])
+        residual(z[:, :1])                            # warm up
+        begin = time.perf_counter()
+        batched = residual(z)
+        t_batched = time.perf_counter() - begin
+        begin = time.perf_counter()
+        looped = np.column_stack([residual(z[:, j:j + 1]) for j in range(len(params))])
+        t_looped = time.perf_counter() - begin
+    return {"columns": len(params), "threads": batch.nthread, "batched": t_batched,
+            "one_by_one": t_looped, "same_numbers": bool(np.array_equal(batched, looped))}
 
 
 def _status(log: str) -> tuple[str, int]:

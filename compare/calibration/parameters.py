@@ -10,7 +10,8 @@ is therefore either
             solref.timeconst  timeconst = gain / (wn zeta)      (positive form, s)
             solref.dampratio  dampratio = gain zeta
             solreffriction.damping   the friction rows' damping = gain x the penalty mapping's
-                              (viscous slope c_t = mu alpha N_ref, mujoco_models/friction.py)
+                              (viscous slope c_t = mu alpha N_ref, mujoco_models/friction.py),
+                              rescaled to the base's solimp dwidth (MuJoCo divides by it)
             friction.slide    mu_MuJoCo = gain mu;   friction.roll   mu_roll_MuJoCo = gain mu_roll
     value   one number shared by every scene: the five solimp entries and impratio.
 

@@ -38,6 +38,10 @@ def _m(x) -> str:
     return "diverged" if x is None else f"{x:.3g}"
 
 
+def _vec(v) -> str:
+    return " ".join(f"{x:.4g}" for x in v)
+
+
 def payload(cal: Calibration) -> dict:
     r = cal.result
     return {
@@ -61,6 +65,7 @@ def payload(cal: Calibration) -> dict:
             "at_bound": r.at_bound, "iterations": r.iterations, "objective": r.objective,
             "wall_time": r.wall_time, "mujoco_steps": r.mujoco_steps,
             "residual_evaluations": r.residual_evaluations,
+            "jacobian_cost": cal.jacobian,
             "readback_ok": all(row["compiled_equal"] and row["mjcf_equal"]
                                for s in cal.scenes for row in s.readback),
         },
@@ -108,7 +113,13 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
              f"`mujoco.minimize.least_squares` (box bounds, finite differences batched through `mujoco.rollout`).", "",
              f"- status: **{r.status}** ({'converged' if r.converged else 'NOT converged'}) after {r.iterations} iterations",
              f"- cost: {r.wall_time:.1f} s wall time, {r.mujoco_steps:,} MuJoCo steps in {r.residual_evaluations} rollouts",
-             f"- objective: {r.objective[0]:.4g} -> {r.objective[-1]:.4g} m^2", ""]
+             f"- objective: {r.objective[0]:.4g} -> {r.objective[-1]:.4g} m^2"]
+    j = cal.jacobian
+    if j:
+        lines.append(f"- one Jacobian ({j['columns']} columns, every fitted scene): {j['batched']:.2f} s batched "
+                     f"(one mujoco.rollout call per scene, {j['threads']} threads) against {j['one_by_one']:.2f} s "
+                     f"one column per call; {'the same numbers' if j['same_numbers'] else 'DIFFERENT numbers'}")
+    lines.append("")
     if r.at_bound:
         lines += [f"**Stuck on a bound:** {', '.join(r.at_bound)}: the optimum lies outside the box; "
                   f"the setting is compensating for something it cannot model (see below).", ""]
@@ -137,6 +148,17 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
               "|---|---|---|---|---|"]
     for s in cal.scenes:
         lines.append(f"| {s.scene.name} | " + " | ".join(_m(s.errors[k]["angle_error_max"]) for k in COLUMNS) + " |")
+    lines += ["", "## Settings per scene: the three mappings and the calibrated twin", "",
+              "| scene | twin | solref | solimp | solreffriction | friction (slide) | impratio |",
+              "|---|---|---|---|---|---|---|"]
+    for s in cal.scenes:
+        rows = dict(cal.mapping_settings.get(s.scene.name, {}))
+        rows["calibrated"] = s.settings
+        for key in COLUMNS:
+            if key in rows:
+                v = rows[key]
+                lines.append(f"| {s.scene.name} | {key} | {_vec(v.solref)} | {_vec(v.solimp)} | "
+                             f"{_vec(v.solreffriction)} | {v.friction[0]:.4g} | {v.impratio:.4g} |")
     lines += ["", "## Objective against iterations", "", f"![objective]({figures['objective']})", "",
               "## Residual before and after", ""]
     for s in cal.scenes:
@@ -215,6 +237,12 @@ def write_reverse(result, targets, out: Path) -> Path:
     for s in scenes:
         e = s["position_error_max"]
         lines.append(f"| {s['name']} | {_m(e['scene'])} | {_m(e['calibrated'])} |")
+    lines += ["", "As a scene file's `[contact]` table (custom_sim then follows the MuJoCo twin):", ""]
+    for s in scenes:
+        v = s["fitted_values"]
+        lines += [f"{s['name']}:", "", "```toml", "[contact]", f"k = {v['k']:.6g}        # N/m",
+                  f"c = {v['c']:.6g}        # N s/m", f"mu = {v['mu']:.6g}",
+                  f"alpha = {v['alpha']:.6g}    # s/m", "```", ""]
     lines += ["", f"![objective]({fig})", "", "```", result.log.strip(), "```", ""]
     _atomic(out / "calibration.json", json.dumps(data, indent=2))
     _atomic(out / "index.md", "\n".join(lines))

@@ -37,8 +37,9 @@ class ContactSettings:
 
 @dataclass(frozen=True)
 class BaseSettings:
-    """What a fit starts from for one scene: the base mapping's settings and the penalty
-    mapping's friction-row damping (solreffriction[1], the base of solreffriction.damping)."""
+    """What a fit starts from for one scene: the base mapping's settings and the base of
+    solreffriction.damping: the penalty mapping's solreffriction[1], rescaled by the base's
+    dwidth so that the friction row's damping B = -solreffriction[1] / dwidth is the penalty's."""
 
     mapping: str
     settings: ContactSettings

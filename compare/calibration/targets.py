@@ -72,7 +72,11 @@ def prepare(scene: Scene, mapping: str, reference: Trajectory | None = None,
     props = mass_properties(scene.body)
     length = float(np.sqrt(props.inertia / props.mass)) if props.rotates else 0.0
     penalty = solref_for(scene, "penalty", model, twin.dt)
-    base = BaseSettings(mapping, read_model(model), penalty.solreffriction[1])
+    settings = read_model(model)
+    # MuJoCo's friction-row damping is B = -solreffriction[1] / dwidth: rescaled to the base's
+    # dwidth, gain 1 gives the penalty mapping's B whatever the base
+    friction_damping = penalty.solreffriction[1] * settings.solimp[1] / penalty.solimp[1]
+    base = BaseSettings(mapping, settings, friction_damping)
     samples = np.unique(np.linspace(1, steps, min(MAX_SAMPLES, steps)).round().astype(int))
     return Target(scene, base, model, start, steps, twin.dt, tuple(props.com), props.rotates,
                   length, path, samples)

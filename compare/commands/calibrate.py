@@ -15,6 +15,7 @@ converged, 2 bad input (nothing is written).
 from __future__ import annotations
 
 import os
+import sys
 
 from ..cli import BadInput, output_folder
 from ..scenarios import load_all
@@ -65,6 +66,18 @@ def main(args) -> int:
             raise BadInput(f"{s.source}: effects: no 'contact' (expected scenes with contact to calibrate)")
     out = output_folder(args.out or ("reports/calibration/reverse" if args.reverse else "reports/calibration"))
 
+    from custom_sim import SimulationDiverged
+    from mujoco_models import MujocoDiverged
+
+    try:
+        return _run(args, fitted, held, params, base_mapping, out)
+    except (SimulationDiverged, MujocoDiverged) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        print("calibration stopped: a reference run diverged; nothing written")
+        return 1
+
+
+def _run(args, fitted, held, params, base_mapping, out) -> int:
     from ..calibration.report import write_calibration, write_reverse
 
     if args.reverse:
