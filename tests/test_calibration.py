@@ -84,6 +84,11 @@ def test_fitted_settings_reach_the_model():
     rows = readback(params, settings, compiled, reloaded)
     assert len(rows) == 7 and all(r["compiled_equal"] and r["mjcf_equal"] for r in rows), rows
     assert read_model(compiled) == settings
+    # mutation: a model that kept the base solref fails the read-back on exactly those rows
+    stale = copy.copy(compiled)
+    stale.pair_solref[:] = target.base.settings.solref
+    bad = [r["parameter"] for r in readback(params, settings, stale, reloaded) if not r["compiled_equal"]]
+    assert bad == ["solref.stiffness", "solref.damping"]
     with Batch(1) as b:
         fit_path = b.paths(target, [settings])[0]
         spec_path = b.paths(dataclasses.replace(target, model=compiled), [read_model(compiled)])[0]

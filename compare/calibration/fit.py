@@ -12,6 +12,7 @@ k copies of each scene's compiled twin and rolls them out in one mujoco.rollout 
 from __future__ import annotations
 
 import io
+import os
 import math
 import re
 import time
@@ -123,7 +124,9 @@ def jacobian_cost(targets: list[Target], params, nthread: int = 2) -> dict:
         begin = time.perf_counter()
         looped = np.column_stack([residual(z[:, j:j + 1]) for j in range(len(params))])
         t_looped = time.perf_counter() - begin
-    return {"columns": len(params), "threads": batch.nthread, "batched": t_batched,
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    return {"columns": len(params), "threads": batch.nthread, "cpus": os.cpu_count(),
+            "load_average": load, "batched": t_batched,
             "one_by_one": t_looped, "same_numbers": bool(np.array_equal(batched, looped))}
 
 

@@ -118,7 +118,8 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
     if j:
         lines.append(f"- one Jacobian ({j['columns']} columns, every fitted scene): {j['batched']:.2f} s batched "
                      f"(one mujoco.rollout call per scene, {j['threads']} threads) against {j['one_by_one']:.2f} s "
-                     f"one column per call; {'the same numbers' if j['same_numbers'] else 'DIFFERENT numbers'}")
+                     f"one column per call; {'the same numbers' if j['same_numbers'] else 'DIFFERENT numbers'} "
+                     f"(load average {j['load_average']:.1f} on {j['cpus']} cores: threads only pay on idle cores)")
     lines.append("")
     if r.at_bound:
         lines += [f"**Stuck on a bound:** {', '.join(r.at_bound)}: the optimum lies outside the box; "

@@ -75,7 +75,9 @@ def prepare(scene: Scene, mapping: str, reference: Trajectory | None = None,
     settings = read_model(model)
     # MuJoCo's friction-row damping is B = -solreffriction[1] / dwidth: rescaled to the base's
     # dwidth, gain 1 gives the penalty mapping's B whatever the base
-    friction_damping = penalty.solreffriction[1] * settings.solimp[1] / penalty.solimp[1]
+    friction_damping = penalty.solreffriction[1]
+    if settings.solimp[1] != penalty.solimp[1]:
+        friction_damping *= settings.solimp[1] / penalty.solimp[1]
     base = BaseSettings(mapping, settings, friction_damping)
     samples = np.unique(np.linspace(1, steps, min(MAX_SAMPLES, steps)).round().astype(int))
     return Target(scene, base, model, start, steps, twin.dt, tuple(props.com), props.rotates,

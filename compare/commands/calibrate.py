@@ -53,6 +53,10 @@ def main(args) -> int:
         raise BadInput(f"--max-iter: {args.max_iter} (expected a whole number >= 1)")
     if args.reverse and args.fit:
         raise BadInput("--fit: not used with --reverse (the reverse fit always fits k, c, mu, alpha)")
+    if args.reverse and args.test:
+        raise BadInput("--test: not used with --reverse (the reverse fit reports every scene it fits)")
+    if not args.reverse and args.solref:
+        raise BadInput("--solref: only used with --reverse (the forward fit starts from the penalty or physical mapping, by --fit)")
     params = None if args.reverse else parse_fit(args.fit)
     fitted = load_all(list(args.scenes or DEFAULT_FITTED))
     test = args.test if args.test is not None else ("" if args.scenes else ",".join(DEFAULT_HELD_OUT))
