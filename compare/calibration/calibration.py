@@ -10,6 +10,7 @@ reached the model shows there, not as a good-looking fit of the wrong model.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import mujoco
@@ -106,7 +107,7 @@ def calibrate(fitted: list[Scene], held_out: list[Scene], params, base: str,
             xml = spec.to_xml()
             reloaded = mujoco.MjModel.from_xml_string(xml)
             # the calibrated path is the compiled spec's own rollout (what a user gets)
-            model_target = Target(**{**target.__dict__, "model": compiled})
+            model_target = dataclasses.replace(target, model=compiled)
             paths["calibrated"] = batch.paths(model_target, [read_model(compiled)])[0]
             errs["calibrated"] = errors(target, paths["calibrated"])
             reports.append(SceneReport(scene, held, errs, paths, target.reference,
