@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import io
 import os
-import math
 import re
 import time
 from dataclasses import dataclass, field
@@ -22,7 +21,7 @@ import numpy as np
 from mujoco import minimize
 
 from .settings import calibrated
-from .targets import Batch, Target, errors, residual_of
+from .targets import Batch, Target, residual_of
 
 # Finite-difference step in z (a relative change of the parameter). minimize's default
 # sqrt(eps) = 1.5e-8 moves a contact onset by far less than one step, so the difference
@@ -138,16 +137,3 @@ def _status(log: str) -> tuple[str, int]:
         return "unknown (no termination message)", -1
     return match.group(2).strip(), int(match.group(1))
 
-
-def evaluate(targets: list[Target], params, values, nthread: int = 2) -> list[dict]:
-    """Errors of the calibrated twin of each target (one rollout each)."""
-    out = []
-    with Batch(nthread) as batch:
-        for target in targets:
-            s = calibrated(target.base, params, values)
-            out.append(errors(target, batch.paths(target, [s])[0]))
-    return out
-
-
-def objective_value(r: np.ndarray) -> float:
-    return 0.5 * float(r @ r) if np.all(np.isfinite(r)) else math.inf
