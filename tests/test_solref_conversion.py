@@ -11,10 +11,10 @@ import pytest
 from compare.calibration.conversion import conversion_table, drop_scene
 from compare.cli import main
 from custom_sim import parse_scene
-from mujoco_models import build_twin, simulate_mujoco
-from mujoco_models.solref import PENALTY_IMPEDANCE
+from mujoco_models import build_twin, simulate_mujoco, solref_for
 
 M, K, C, G = 0.5, 1e4, 20.0, 9.81
+PENALTY_IMPEDANCE = solref_for(drop_scene(M, K, C), "penalty").solimp[0]   # MuJoCo's smallest, 1e-4
 # The penalty row's force is (k d + c v - d_imp a0 / A_hat) / (1 + d_imp (A / A_hat - 1)); on a
 # point mass A = A_hat = 1/m, so it is off only by d_imp m g (a0 = -g), plus rounding.
 PENALTY_FORCE_TOLERANCE = PENALTY_IMPEDANCE * M * G + 1e-9
