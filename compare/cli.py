@@ -23,6 +23,8 @@ COMMANDS = {
     "sweep": "compare.commands.sweep",
     "bench": "compare.commands.bench",
     "play": "compare.commands.play",
+    "calibrate": "compare.commands.calibrate",
+    "solref": "compare.commands.solref",
 }
 
 EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2

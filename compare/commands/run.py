@@ -1,17 +1,18 @@
-"""Run scenarios in both simulators and write the comparison report.
+"""Run every check of each scenario and write the comparison report.
 
 SCENE is a built-in name (see `list`) or a path to a scene file; without SCENE every
 built-in scenario runs. Writes DIR/index.md and DIR/<name>/ (metrics.json, trajectory
-CSVs, model.xml, plots). Exit status: 0 all within tolerance, 1 one outside it (or
-diverged: no report is written for that scenario), 2 bad input (nothing is written).
+CSVs, model.xml, plots). Exit status: 0 every check within its tolerance, 1 a check outside
+it, or a scenario that could not be judged (unstable, or an error: its row says why), 2 bad
+input (nothing is written).
 """
 from __future__ import annotations
 
 import os
 import sys
 from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
-
 
 from ..cli import output_folder
 from ..scenarios import load_all
@@ -41,47 +42,116 @@ def add_arguments(parser) -> None:
                             "required (energy optional), first row t = 0, then one row per step of dt")
 
 
-def run_one(scene, out: str):
-    """Worker: run, compare and write one scenario; returns (row or None, divergence message)."""
-    from ..verdict.comparison import run_scenario
-    from ..report import write_scenario
+def one_line(exc: BaseException) -> str:
+    """`Type: first line of the message`: the cause a report row shows."""
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
 
-    result = run_scenario(scene)
-    if result.error:
-        return None, result.error
-    from mujoco_models import to_mjcf
 
-    return write_scenario(result, Path(out), to_mjcf(scene)), None
+def run_one(scene, out: str, simulator=None):
+    """Worker: run, judge and write one scenario. Returns (metrics.json dict, None), or
+    (None, (status, cause)) when no verdict could be reached; never raises for a failure
+    inside the scenario, so one scenario cannot stop the others."""
+    try:
+        from mujoco_models import to_mjcf
+
+        from ..report import write_scenario
+        from ..verdict.comparison import run_scenario
+
+        result = run_scenario(scene, simulator)
+        if result.error:
+            return None, (result.status, result.error)
+        return write_scenario(result, Path(out), to_mjcf(scene)), None
+    except Exception as exc:  # noqa: BLE001 - becomes the scenario's error row
+        from ..cli import BadInput
+        if isinstance(exc, BadInput):
+            raise
+        return None, ("error", one_line(exc))
+
+
+def run_all(scenes, out: Path, jobs: int, simulator=None) -> tuple[dict, dict]:
+    """Every scene in worker processes. A worker that dies (a crash in compiled code, the
+    machine killing it) breaks the pool; the scenes it took down are run again, one process
+    each, so that only the one that kills its process gets an error row."""
+    from tqdm import tqdm
+
+    rows, failures = {}, {}
+    todo = list(scenes)
+    with tqdm(total=len(todo), desc="scenarios", unit="scene", delay=2, file=sys.stderr) as bar:
+        for width in (max(1, min(jobs, len(todo))), 1):
+            lost = []
+            groups = [todo] if width > 1 else [[s] for s in todo]
+            for group in groups:
+                try:
+                    with ProcessPoolExecutor(width) as pool:
+                        futures = {pool.submit(run_one, s, str(out), simulator): s for s in group}
+                        for future in futures:
+                            scene = futures[future]
+                            try:
+                                row, failure = future.result()
+                            except BrokenProcessPool:
+                                lost.append(scene)
+                                continue
+                            bar.update()
+                            if row is None:
+                                failures[scene.name] = failure
+                            else:
+                                rows[scene.name] = row
+                except BrokenProcessPool:
+                    pass
+            todo = [s for s in lost if s.name not in rows and s.name not in failures]
+            if not todo:
+                break
+        for scene in todo:  # died even alone
+            failures[scene.name] = ("error", "the worker process running it died (a crash outside Python)")
+            bar.update()
+    return rows, failures
+
+
+def verdict_line(row: dict) -> str:
+    name = row["name"]
+    if row["pass"]:
+        judged = [c for c in row["checks"] if c["pass"] is not None]
+        return f"{name:<20} pass  {len(judged)} checks within tolerance"
+    parts = []
+    for c in row["checks"]:
+        if c["pass"] is False:
+            label = f"{c['name']} ({c['integrator']})" if c.get("integrator") else c["name"]
+            parts.append(f"{label}: position {c['position_error_max']:.3e} m (tolerance "
+                         f"{c['tolerance_position']:.3e} m), angle {c['angle_error_max']:.3e} rad "
+                         f"(tolerance {c['tolerance_angle']:.3e} rad)")
+    return f"{name:<20} FAIL  " + "; ".join(parts)
 
 
 def main(args) -> int:
     scenes = load_all(args.scenes)
+    simulator = None
+    loader = getattr(args, "load_simulator", None)
+    if loader is not None:
+        simulator = loader(args, scenes)  # bad input is raised here, before anything is written
     out = output_folder(args.out)
+    warm_up = _warm_up()
+    if warm_up:
+        warm_up()
     out.mkdir(parents=True, exist_ok=True)
-
-    from tqdm import tqdm
 
     from ..report import write_index
 
-    rows, failures = {}, []
-    jobs = max(1, min(args.jobs, len(scenes)))
-    with ProcessPoolExecutor(jobs) as pool:
-        futures = {pool.submit(run_one, s, str(out)): s.name for s in scenes}
-        for future in tqdm(futures, desc="scenarios", unit="scene", delay=2, file=sys.stderr):
-            name = futures[future]
-            row, error = future.result()
-            if row is None:
-                failures.append((name, error))
-                print(f"error: {error}", file=sys.stderr)
-            else:
-                rows[name] = row
+    rows, failures = run_all(scenes, out, args.jobs, simulator)
     ordered = [rows[s.name] for s in scenes if s.name in rows]
-    index = write_index(out, ordered, failures)
+    failed = [(s.name, *failures[s.name]) for s in scenes if s.name in failures]
+    index = write_index(out, ordered, failed)
     for r in ordered:
-        verdict = "pass" if r["pass"] else "FAIL"
-        print(f"{r['name']:<20} {verdict:<5} position {r['position_error_max']:.3e} m "
-              f"(tolerance {r['tolerance']['position']:.3e} m), angle {r['angle_error_max']:.3e} rad")
-    for name, _ in failures:
-        print(f"{name:<20} diverged: no report written")
+        for warning in r.get("warnings", []):
+            print(f"warning: {warning}", file=sys.stderr)
+        print(verdict_line(r))
+    for name, status, why in failed:
+        print(f"{name:<20} {status}: {why}")
     print(f"report: {index}")
-    return 0 if not failures and all(r["pass"] for r in ordered) else 1
+    return 0 if not failed and all(r["pass"] for r in ordered) else 1
+
+
+def _warm_up():
+    """custom_sim's compile-once hook, where it has one (compiled before the workers start)."""
+    import custom_sim
+    return getattr(custom_sim, "warm_up", None)

@@ -15,7 +15,7 @@ from custom_sim import write_csv
 
 from ..verdict import metrics
 from . import plots
-from ..verdict.comparison import Result, metrics_json
+from ..verdict.comparison import Result, check_label, metrics_json
 
 TERM_CAUSES = {
     "impedance": "MuJoCo's penalty row reproduces k d + c v up to a relative 1e-4 (its impedance d = 1e-4 times "
@@ -61,14 +61,19 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
         (tmp / "metrics.json").write_text(json.dumps(data, indent=2, allow_nan=False) + "\n")
         write_csv(result.custom, tmp / "trajectory_custom.csv")
         write_csv(result.mujoco, tmp / "trajectory_mujoco.csv")
+        tested, twin = result.under_test, result.mujoco
+        if tested is not result.custom:
+            write_csv(tested, tmp / "trajectory_user.csv")
         (tmp / "model.xml").write_text(mjcf)
-        diffs = metrics.differences(result.custom, result.mujoco)
+        diffs = metrics.differences(tested, twin)
+        shown = (tested, twin) if tested is result.custom else (tested, result.custom, twin)
         figures = {
-            "states": plots.states(scene, result.custom, result.mujoco, tmp / "states.png"),
-            "path": plots.path_in_plane(scene, result.custom, result.mujoco, tmp / "path.png"),
-            "error": plots.error(scene, diffs, result.tolerance, tmp / "error.png"),
-            "energy": plots.energy(scene, result.custom, result.mujoco, tmp / "energy.png"),
-            "snapshots": plots.snapshots(scene, result.custom, result.mujoco, tmp / "snapshots.png"),
+            "states": plots.states(scene, shown, tmp / "states.png"),
+            "path": plots.path_in_plane(scene, shown, tmp / "path.png"),
+            "error": plots.error(scene, diffs, tmp / "error.png"),
+            "energy": plots.energy(scene, shown, tmp / "energy.png"),
+            "snapshots": plots.snapshots(scene, tested, twin, tmp / "snapshots.png"),
+            "residuals": plots.step_residuals(scene, result.residuals, result.checks, tmp / "residuals.png"),
         }
         (tmp / "index.md").write_text(scenario_page(result, data, figures))
         if final.exists():
@@ -80,19 +85,52 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
     return data
 
 
+def _verdict(passed) -> str:
+    return "not judged" if passed is None else ("pass" if passed else "**FAIL**")
+
+
+def checks_table(result: Result) -> list[str]:
+    """The table a scenario page opens with: one row per check."""
+    lines = ["| check | what it isolates | largest difference | tolerance | verdict |", "|---|---|---|---|---|"]
+    for c in result.checks:
+        diff = (f"{_fmt(c['position_error_max'], ' m')}, {_fmt(c['angle_error_max'], ' rad')}"
+                if c["position_error_max"] is not None else "–")
+        tol = (f"{_fmt(c['tolerance_position'], ' m')}, {_fmt(c['tolerance_angle'], ' rad')}"
+               if c["tolerance_position"] is not None else "–")
+        note = "" if c["pass"] else f" ({c['reason']})"
+        where = f"; first at step {c['first_step']} ({c.get('phase', '')}, {c.get('component', '')})" \
+            if c["pass"] is False and c.get("first_step") is not None else ""
+        lines.append(f"| {check_label(c)} | {c['isolates']} | {diff} | {tol} | {_verdict(c['pass'])}{note}{where} |")
+    return lines
+
+
+def attribution_table(result: Result) -> list[str]:
+    """Each named cause of the difference to MuJoCo's native contact, measured."""
+    if not result.attribution:
+        return []
+    lines = ["| run | what it removes | position difference to the simulator under test | angle difference | share |",
+             "|---|---|---|---|---|"]
+    for rung in result.attribution:
+        lines.append(f"| {rung['name']} | {rung['cause']} | {_fmt(rung.get('position_error_max'), ' m')} "
+                     f"| {_fmt(rung.get('angle_error_max'), ' rad')} | {_fmt(rung.get('share'), ' m')} |")
+    return lines
+
+
 def scenario_page(result: Result, data: dict, figures: dict) -> str:
-    scene, tol = result.scene, result.tolerance
-    twin = result.mujoco
+    scene = result.scene
+    twin, tested = result.mujoco, result.under_test
     ev_c, ev_m = data["events_custom"], data["events_mujoco"]
-    lines = [
-        f"# {scene.name}",
-        "",
-        scene.description,
-        "",
-        f"**{'PASS' if result.passed else 'FAIL'}**: the largest position difference is "
-        f"{_fmt(data['position_error_max'], ' m')} at t = {_fmt(data['time_of_position_error_max'], ' s')} "
-        f"(tolerance {_fmt(tol.position, ' m')}), the largest angle difference {_fmt(data['angle_error_max'], ' rad')} "
-        f"(tolerance {_fmt(tol.angle, ' rad')}).",
+    judged = result.judged
+    summary = (f"**{'PASS' if result.passed else 'FAIL'}**: {len(judged) - len(result.failed)} of {len(judged)} "
+               f"judged checks within tolerance"
+               + (f"; outside: {', '.join(check_label(c) for c in result.failed)}" if result.failed else "") + ".")
+    lines = [f"# {scene.name}", "", scene.description, "", summary, ""]
+    lines += [f"> warning: {w}" for w in result.warnings]
+    if result.warnings:
+        lines.append("")
+    lines += ["## Checks", "", f"The simulator under test is **{result.simulator}**.", ""]
+    lines += checks_table(result)
+    lines += [
         "",
         "## The scene",
         "",
@@ -103,33 +141,34 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         f"| contact | k = {_fmt(scene.contact.k, ' N/m')}, c = {_fmt(scene.contact.c, ' N s/m')}, "
         f"damping law {scene.contact.damping_law}, mu = {scene.contact.mu}, alpha = {scene.contact.alpha} s/m, "
         f"mu_roll = {scene.contact.mu_roll} m |",
-        f"| custom_sim | {scene.integrator}, dt = {scene.dt:g} s, {scene.steps} steps, "
-        f"{result.custom.force_evals} force evaluations, {_fmt(result.custom.wall_time, ' s')} |",
+        f"| {result.simulator} | {scene.integrator}, dt = {scene.dt:g} s, {scene.steps} steps, "
+        f"{tested.force_evals} force evaluations, {_fmt(tested.wall_time, ' s')} |",
         f"| MuJoCo | {twin.integrator}, dt = {twin.dt:g} s, solref mapping `{scene.mujoco.solref}`, "
         f"cone {scene.mujoco.cone}, {_fmt(twin.wall_time, ' s')} |",
         f"| stability | theory allows dt < {_fmt(data['stable_dt_theory'], ' s')} for {scene.integrator} |",
         f"| source | `{scene.source}`; MuJoCo model: [model.xml](model.xml) |",
         "",
-        "## Trajectories",
-        "",
-        f"![states]({figures['states']})",
-        "",
-        f"![path]({figures['path']})",
-        "",
-        f"![snapshots]({figures['snapshots']})",
-        "",
-        "## Difference and energy",
+    ]
+    if result.diagnosis:
+        from ..usersim import diagnosis_markdown
+        lines += ["## Diagnosis", "", diagnosis_markdown(result.diagnosis), ""]
+    lines += ["## Trajectories", "", f"![states]({figures['states']})", "", f"![path]({figures['path']})", "",
+              f"![snapshots]({figures['snapshots']})", ""]
+    if figures.get("residuals"):
+        lines += ["## One step against the independent step", "", f"![residuals]({figures['residuals']})", ""]
+    lines += [
+        "## Difference to MuJoCo's own contact, and energy",
         "",
         f"![error]({figures['error']})",
         "",
         f"![energy]({figures['energy']})",
         "",
-        f"Energy drift E(end) - E(0): custom_sim {_fmt(data['energy_drift_custom'], ' J')}, "
+        f"Energy drift E(end) - E(0): {result.simulator} {_fmt(data['energy_drift_custom'], ' J')}, "
         f"MuJoCo {_fmt(data['energy_drift_mujoco'], ' J')} (E(0) = {_fmt(data['energy_initial'], ' J')}).",
         "",
         "## Events",
         "",
-        "| event | custom_sim | MuJoCo |",
+        f"| event | {result.simulator} | MuJoCo |",
         "|---|---|---|",
         f"| first contact (s) | {_fmt(ev_c['first_contact_time'])} | {_fmt(ev_m['first_contact_time'])} |",
         f"| bounce apex heights (m) | {', '.join(f'{h:.4f}' for h in ev_c['bounce_apex_heights'][:4]) or '–'} "
@@ -147,62 +186,64 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         "",
         "## The three solref mappings",
         "",
-        "How MuJoCo's soft contact is set from k and c (PHYSICS.md). Only the scene's own mapping is judged.",
+        "How MuJoCo's soft contact is set from k and c (docs/physics.md); shown, not judged: with MuJoCo's own "
+        "contact the difference is measured and attributed below.",
         "",
-        "| mapping | max position difference | RMS | max angle difference | MuJoCo energy drift | verdict |",
-        "|---|---|---|---|---|---|",
+        "| mapping | max position difference | RMS | max angle difference | MuJoCo energy drift |",
+        "|---|---|---|---|---|",
     ]
     for mapping, row in result.by_mapping.items():
         if "error" in row:
-            lines.append(f"| {mapping} | diverged | | | | {row['error']} |")
+            lines.append(f"| {mapping} | diverged: {row['error']} | | | |")
             continue
-        verdict = "not judged" if row["pass"] is None else ("pass" if row["pass"] else "FAIL")
         lines.append(f"| {mapping}{' (scene)' if mapping == scene.mujoco.solref else ''} "
                      f"| {_fmt(row['position_error_max'], ' m')} | {_fmt(row['position_error_rms'], ' m')} "
-                     f"| {_fmt(row['angle_error_max'], ' rad')} | {_fmt(row['energy_drift_mujoco'], ' J')} | {verdict} |")
-    lines += ["", "## Why the two differ", ""]
-    for name, value in tol.terms.items():
-        lines.append(f"- **{name}** (up to {_fmt(value, ' m')}): {TERM_CAUSES[name]}")
+                     f"| {_fmt(row['angle_error_max'], ' rad')} | {_fmt(row['energy_drift_mujoco'], ' J')} |")
+    lines += ["", "## Why MuJoCo's own contact differs", "",
+              "A ladder of runs, each removing one named cause; every share is a measured difference.", ""]
+    lines += attribution_table(result)
+    lines.append("")
     for note in twin.meta.get("approximations", []):
         lines.append(f"- {note}")
-    lines += ["", f"Tolerance: {tol.reason}.", ""]
-    ab = result.ablation
-    if ab:
-        lines += [
-            "### With friction off",
-            "",
-            f"The same scene run in both simulators with effects {', '.join(ab['effects'])}: the largest position "
-            f"difference is {_fmt(ab['position_error_max'], ' m')} (tolerance {_fmt(ab['tolerance_position'], ' m')}), "
-            f"the largest angle difference {_fmt(ab['angle_error_max'], ' rad')} "
-            f"(tolerance {_fmt(ab['tolerance_angle'], ' rad')}): **{'pass' if ab['pass'] else 'FAIL'}**. "
-            "What remains with friction on is the difference between the two friction laws.",
-            "",
-        ]
+    lines.append("")
     return "\n".join(lines)
 
 
-def index_page(rows: list[dict], failures: list[tuple[str, str]]) -> str:
+def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
     lines = [
-        "# Comparison report: custom_sim against MuJoCo",
+        "# Comparison report",
         "",
-        "One row per scenario. *pos. max* and *pos. RMS* are the distance between the two centres of mass "
-        "(max and root-mean-square over the run), *angle max* the largest angle difference, *drift* the energy "
-        "E(end) - E(0) of each simulator, *time* the wall time of the stepping alone. A scenario passes when "
-        "both differences stay within its tolerance, derived from the physics the two models do not share "
-        "(see each page's *Why the two differ*).",
+        "One row per scenario. A scenario passes when every judged check passes (the second table). *pos. max* "
+        "and *pos. RMS* are the distance between the centres of mass of the simulator under test and of MuJoCo "
+        "with its own contact (max and root-mean-square over the run; shown, and attributed on each page), "
+        "*angle max* the largest angle difference, *drift* the energy E(end) - E(0) of each simulator, *time* the "
+        "wall time of the stepping alone.",
         "",
-        "| scenario | body | integrator | dt (s) | pos. max (m) | pos. RMS (m) | angle max (rad) | tolerance (m) "
-        "| drift custom (J) | drift MuJoCo (J) | time custom (s) | time MuJoCo (s) | result |",
+        "| scenario | simulator | body | integrator | dt (s) | pos. max (m) | pos. RMS (m) | angle max (rad) "
+        "| drift (J) | drift MuJoCo (J) | time (s) | time MuJoCo (s) | result |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
+        failed = ", ".join(r.get("failed_checks", []))
         lines.append(
-            f"| [{r['name']}]({r['name']}/index.md) | {r['shape']} | {r['integrator']} | {r['dt']:g} "
+            f"| [{r['name']}]({r['name']}/index.md) | {r.get('simulator', 'custom_sim')} | {r['shape']} "
+            f"| {r['integrator']} | {r['dt']:g} "
             f"| {_fmt(r['position_error_max'])} | {_fmt(r['position_error_rms'])} | {_fmt(r['angle_error_max'])} "
-            f"| {_fmt(r['tolerance']['position'])} | {_fmt(r['energy_drift_custom'])} | {_fmt(r['energy_drift_mujoco'])} "
-            f"| {_fmt(r['wall_time_custom'])} | {_fmt(r['wall_time_mujoco'])} | {'pass' if r['pass'] else '**FAIL**'} |")
-    for name, why in failures:
-        lines.append(f"| {name} | | | | | | | | | | | | **diverged**: {why} |")
+            f"| {_fmt(r['energy_drift_custom'])} | {_fmt(r['energy_drift_mujoco'])} "
+            f"| {_fmt(r['wall_time_custom'])} | {_fmt(r['wall_time_mujoco'])} "
+            f"| {'pass' if r['pass'] else '**FAIL**: ' + failed} |")
+    for name, status, why in failures:
+        lines.append(f"| {name} | | | | | | | | | | | | **{status}**: {why} |")
+    lines += ["", "## Every judged check", "",
+              "| scenario | check | largest position difference (m) | tolerance (m) | largest angle difference (rad) "
+              "| tolerance (rad) | verdict |", "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        for c in r["checks"]:
+            if c["pass"] is None:
+                continue
+            lines.append(f"| {r['name']} | {check_label(c)} | {_fmt(c['position_error_max'])} "
+                         f"| {_fmt(c['tolerance_position'])} | {_fmt(c['angle_error_max'])} "
+                         f"| {_fmt(c['tolerance_angle'])} | {_verdict(c['pass'])} |")
     lines.append("")
     return "\n".join(lines)
 

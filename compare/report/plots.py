@@ -15,7 +15,10 @@ from .drawing import outlines  # noqa: E402
 
 MAX_POINTS = 4000  # per line: more is invisible at this size and slows drawing
 STYLE = {"custom": dict(color="tab:blue", lw=1.6, label="custom_sim"),
-         "mujoco": dict(color="tab:orange", lw=1.2, ls="--", label="MuJoCo")}
+         "mujoco": dict(color="tab:orange", lw=1.2, ls="--", label="MuJoCo"),
+         "user": dict(color="tab:green", lw=1.4, ls="-.", label="your simulator")}
+INTEGRATOR_COLOURS = {"explicit_euler": "tab:red", "semi_implicit_euler": "tab:blue",
+                      "implicit_euler": "tab:purple", "rk4": "tab:green"}
 
 
 def _every(n: int) -> slice:
@@ -29,10 +32,10 @@ def _save(fig, path: Path) -> str:
     return path.name
 
 
-def states(scene: Scene, a: Trajectory, b: Trajectory, path: Path) -> str:
+def states(scene: Scene, shown: tuple[Trajectory, ...], path: Path) -> str:
     fig, axes = plt.subplots(3, 1, figsize=(8, 7), sharex=True)
     for ax, name, unit in zip(axes, ("x", "y", "theta"), ("m", "m", "rad")):
-        for tr in (a, b):
+        for tr in shown:
             k = _every(len(tr.t))
             ax.plot(tr.t[k], getattr(tr, name)[k], **STYLE[tr.simulator])
         ax.set_ylabel(f"{name} ({unit})")
@@ -43,9 +46,9 @@ def states(scene: Scene, a: Trajectory, b: Trajectory, path: Path) -> str:
     return _save(fig, path)
 
 
-def path_in_plane(scene: Scene, a: Trajectory, b: Trajectory, path: Path) -> str:
+def path_in_plane(scene: Scene, shown: tuple[Trajectory, ...], path: Path) -> str:
     fig, ax = plt.subplots(figsize=(8, 4))
-    for tr in (a, b):
+    for tr in shown:
         k = _every(len(tr.t))
         ax.plot(tr.x[k], tr.y[k], **STYLE[tr.simulator])
     ax.axhline(0.0, color="0.3", lw=2, label="ground y = 0")
@@ -57,30 +60,27 @@ def path_in_plane(scene: Scene, a: Trajectory, b: Trajectory, path: Path) -> str
     return _save(fig, path)
 
 
-def error(scene: Scene, diffs: dict, tol, path: Path) -> str:
+def error(scene: Scene, diffs: dict, path: Path) -> str:
+    """The difference to MuJoCo's own contact against time (shown; attributed on the page)."""
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
     t = diffs["t"]
     k = _every(len(t))
-    ax1.semilogy(t[k], np.maximum(diffs["position"][k], 1e-12), color="tab:red", label="|p_MuJoCo - p_custom|")
-    if tol.checked:
-        ax1.axhline(tol.position, color="k", ls=":", label=f"tolerance {tol.position:.2g} m")
+    ax1.semilogy(t[k], np.maximum(diffs["position"][k], 1e-12), color="tab:red", label="|p_MuJoCo - p_tested|")
     ax1.set_ylabel("position difference (m)")
     ax1.legend(loc="best")
     ax1.grid(alpha=0.3, which="both")
-    ax2.semilogy(t[k], np.maximum(diffs["angle"][k], 1e-12), color="tab:purple", label="|theta_MuJoCo - theta_custom|")
-    if tol.checked:
-        ax2.axhline(tol.angle, color="k", ls=":", label=f"tolerance {tol.angle:.2g} rad")
+    ax2.semilogy(t[k], np.maximum(diffs["angle"][k], 1e-12), color="tab:purple", label="|theta_MuJoCo - theta_tested|")
     ax2.set_ylabel("angle difference (rad)")
     ax2.set_xlabel("time (s)")
     ax2.legend(loc="best")
     ax2.grid(alpha=0.3, which="both")
-    ax1.set_title(f"{scene.name}: difference between the simulators")
+    ax1.set_title(f"{scene.name}: difference to MuJoCo's own contact (penalty mapping)")
     return _save(fig, path)
 
 
-def energy(scene: Scene, a: Trajectory, b: Trajectory, path: Path) -> str:
+def energy(scene: Scene, shown: tuple[Trajectory, ...], path: Path) -> str:
     fig, ax = plt.subplots(figsize=(8, 4))
-    for tr in (a, b):
+    for tr in shown:
         k = _every(len(tr.t))
         ax.plot(tr.t[k], tr.energy[k], **STYLE[tr.simulator])
     ax.set_xlabel("time (s)")
@@ -111,8 +111,32 @@ def snapshots(scene: Scene, a: Trajectory, b: Trajectory, path: Path, count: int
         ax.set_xlabel("x (m)", fontsize=8)
         ax.tick_params(labelsize=7)
     axes[0].set_ylabel("y (m)")
-    axes[0].plot([], [], **{k: v for k, v in STYLE["custom"].items()})
-    axes[0].plot([], [], **{k: v for k, v in STYLE["mujoco"].items()})
+    for tr in (a, b):
+        axes[0].plot([], [], **STYLE[tr.simulator])
     axes[0].legend(loc="upper left", fontsize=7)
-    fig.suptitle(f"{scene.name}: snapshots (solid custom_sim, dashed MuJoCo)")
+    fig.suptitle(f"{scene.name}: snapshots ({STYLE[a.simulator]['label']} and dashed MuJoCo)")
+    return _save(fig, path)
+
+
+def step_residuals(scene: Scene, residuals: dict, checks: list[dict], path: Path) -> str | None:
+    """Each integrator's one-step residual against time, with its round-off bound.
+    residuals: integrator -> per-step position residual (m), shape (steps,)."""
+    shown = {name: r for name, r in residuals.items() if r is not None and len(r)}
+    if not shown:
+        return None
+    bounds = {c["integrator"]: c["tolerance_position"] for c in checks if c["name"] == "step"}
+    fig, ax = plt.subplots(figsize=(8, 4))
+    for name, r in shown.items():
+        r = np.asarray(r, dtype=float)
+        t = scene.dt * np.arange(1, len(r) + 1)
+        k = _every(len(t))
+        colour = INTEGRATOR_COLOURS.get(name, "tab:gray")
+        ax.semilogy(t[k], np.maximum(r[k], 1e-20), color=colour, lw=1, label=name)
+        if bounds.get(name):
+            ax.axhline(bounds[name], color=colour, ls=":", lw=1)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("one-step position residual (m)")
+    ax.set_title(f"{scene.name}: each step against the independent step (dotted: round-off bound)")
+    ax.legend(loc="best", fontsize=8)
+    ax.grid(alpha=0.3, which="both")
     return _save(fig, path)

@@ -1,90 +1,236 @@
-"""One scenario, both simulators: run, measure, judge. The report is written from its result."""
+"""One scenario: run the simulator under test, judge every check, measure every difference.
+
+The checks (one row each, see CHECK_KEYS; every check module is compare/verdict/*_check.py):
+
+    step        each integrator's trajectory, step by step, against one step of the same
+                integrator with an independent right-hand side          (all four integrators)
+    dynamics    against MuJoCo integrating the same contact law        (semi-implicit Euler, RK4)
+    contact     against MuJoCo's own contact, penalty mapping, friction off
+    identical   a user's simulator against custom_sim, same integrator and dt
+    reference   the error at the scene's dt against the converged reference  (shown, not judged)
+
+The scenario passes when every judged check passes. The full-effects comparison with MuJoCo's
+native contact (each solref mapping) is shown beside, with every difference measured and
+attributed to a named cause (attribution.py), and is not judged by an upper bound.
+"""
 from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
 
-from custom_sim import Scene, SimulationDiverged, Trajectory, simulate, stable_step
+import numpy as np
+
+from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Trajectory, simulate, stable_step
 from custom_sim.scene import SOLREF_MAPPINGS
 
-from . import events, metrics, tolerance
+from . import events, metrics
+
+# integrators whose dynamics MuJoCo can integrate with a passive force: Euler is our
+# semi-implicit Euler, RK4 the classical four stages; its implicit integrators leave passive
+# forces out of their derivatives, and it has no explicit Euler.
+MUJOCO_INTEGRATORS = {"semi_implicit_euler": "Euler", "rk4": "RK4"}
+CUSTOM = "custom_sim"
 
 
 @dataclass
 class Result:
     scene: Scene
-    custom: Trajectory | None = None
-    mujoco: Trajectory | None = None                  # with the scene's own mapping
-    by_mapping: dict = field(default_factory=dict)    # mapping -> metrics (and drift, meta)
-    metrics: dict = field(default_factory=dict)
-    tolerance: tolerance.Tolerance | None = None
-    passed: bool = False
-    error: str | None = None                          # divergence: why no report was written
-    ablation: dict | None = None                      # the same comparison with friction off
+    under_test: Trajectory | None = None              # the simulator under test
+    custom: Trajectory | None = None                  # custom_sim with the scene's integrator
+    runs: dict = field(default_factory=dict)          # custom_sim by integrator: Trajectory or the failure text
+    mujoco: Trajectory | None = None                  # native twin, the scene's own mapping
+    by_mapping: dict = field(default_factory=dict)    # mapping -> metrics (and drift)
+    metrics: dict = field(default_factory=dict)       # under test against the native twin
+    checks: list = field(default_factory=list)        # check rows (CHECK_KEYS)
+    attribution: list = field(default_factory=list)   # the measured ladder of causes
+    residuals: dict = field(default_factory=dict)     # per-step residuals of the step checks (plots)
+    warnings: list = field(default_factory=list)      # e.g. dt outside the theory's limit
+    diagnosis: dict | None = None                     # a user's simulator: which mistake explains it
+    simulator: str = CUSTOM                           # name of the simulator under test
+    error: str | None = None                          # why no verdict could be reached
+    unstable: bool = False                            # the error is a divergence or chatter
+
+    @property
+    def judged(self) -> list[dict]:
+        return [c for c in self.checks if c["pass"] is not None]
+
+    @property
+    def failed(self) -> list[dict]:
+        return [c for c in self.checks if c["pass"] is False]
+
+    @property
+    def passed(self) -> bool:
+        return self.error is None and not self.failed
 
     @property
     def status(self) -> str:
         if self.error:
-            return "diverged"
+            return "unstable" if self.unstable else "error"
         return "pass" if self.passed else "FAIL"
 
 
-def run_scenario(scene: Scene) -> Result:
-    """Run the scene in custom_sim and in MuJoCo with every solref mapping; compare."""
+def check_label(check: dict) -> str:
+    """`dynamics (rk4)`: the check's name with its integrator."""
+    return f"{check['name']} ({check['integrator']})" if check.get("integrator") else check["name"]
+
+
+def custom_runs(scene: Scene) -> dict:
+    """custom_sim with each of the four integrators at the scene's dt: a Trajectory, or the
+    divergence message where that integrator is unstable at this step."""
+    runs = {}
+    for name in INTEGRATORS:
+        try:
+            runs[name] = simulate(dataclasses.replace(scene, integrator=name))
+        except SimulationDiverged as exc:
+            runs[name] = str(exc)
+    return runs
+
+
+def unstable_row(name: str, integrator: str, why: str) -> dict:
+    return {"name": name, "isolates": "", "integrator": integrator, "position_error_max": None,
+            "angle_error_max": None, "tolerance_position": None, "tolerance_angle": None, "pass": None,
+            "reason": f"not judged: {integrator} is unstable at this step ({why})"}
+
+
+def run_scenario(scene: Scene, simulator=None) -> Result:
+    """Run every check of the scene on custom_sim (simulator None) or on a user's simulator
+    (compare.usersim); MuJoCo with every solref mapping beside."""
     result = Result(scene)
     try:
-        custom = simulate(scene)
+        _run(result, simulator)
     except SimulationDiverged as exc:
-        result.error = str(exc)
-        return result
-    from mujoco_models import simulate_mujoco
-    result.custom = custom
-    own = scene.mujoco.solref
-    for mapping in (own,) + tuple(m for m in SOLREF_MAPPINGS if m != own):
-        try:
-            twin = simulate_mujoco(scene, solref=mapping)
-        except SimulationDiverged as exc:
-            if mapping == own:
-                result.error = f"MuJoCo ({mapping}): {exc}"
-                return result
-            result.by_mapping[mapping] = {"error": str(exc)}
-            continue
-        row = metrics.compare(custom, twin)
-        row["energy_drift_mujoco"] = metrics.energy_drift(twin)
-        row["wall_time_mujoco"] = twin.wall_time
-        tol = tolerance.derive(scene, mapping)
-        row["tolerance_position"] = tol.position if tol.checked else None
-        row["pass"] = tolerance.judge(tol, row) if tol.checked else None
-        result.by_mapping[mapping] = row
-        if mapping == own:
-            result.mujoco = twin
-            result.metrics = row
-            result.tolerance = tol
-    result.passed = tolerance.judge(result.tolerance, result.metrics)
-    if scene.has("friction") and result.tolerance.checked:
-        result.ablation = without_friction(scene)
-        result.passed = result.passed and result.ablation["pass"]
+        result.error, result.unstable = str(exc), True
     return result
 
 
-def without_friction(scene: Scene) -> dict:
-    """Both simulators again with friction (and rolling resistance) off: what the two models
-    share must then agree within the tolerance left when the friction terms are dropped."""
+def _run(result: Result, simulator) -> None:
     from mujoco_models import simulate_mujoco
 
-    bare = dataclasses.replace(scene, effects=tuple(e for e in scene.effects if "friction" not in e))
-    row = metrics.compare(simulate(bare), simulate_mujoco(bare))
-    tol = tolerance.derive(bare)
-    row.update(tolerance_position=tol.position, tolerance_angle=tol.angle, reason=tol.reason,
-               effects=list(bare.effects), **{"pass": tolerance.judge(tol, row)})
-    return row
+    from .attribution import attribute
+    from .contact_check import check_contact
+    from .dynamics_check import check_dynamics
+    from .step_check import check_step
+
+    scene = result.scene
+    result.warnings = stability_warnings(scene)
+    result.runs = custom_runs(scene)
+    own = result.runs[scene.integrator]
+    if isinstance(own, str):
+        raise _diverged(scene)
+    result.custom = own
+    if simulator is None:
+        result.under_test = own
+        tested = {name: run for name, run in result.runs.items()}
+    else:
+        from ..usersim import run_user
+        result.simulator = simulator.name
+        result.under_test = run_user(simulator, scene)
+        tested = {simulator.integrator: result.under_test}
+
+    checks = []
+    if simulator is not None:
+        from .identical_check import check_identical
+        checks.append(check_identical(scene, result.under_test.states(), simulator.integrator, scene.dt))
+    for name, run in tested.items():
+        if isinstance(run, str):
+            checks.append(unstable_row("step", name, run))
+            continue
+        row = check_step(scene, run.states(), name, scene.dt)
+        result.residuals[name] = row.pop("residuals", None)
+        checks.append(row)
+    for name in MUJOCO_INTEGRATORS:
+        run = tested.get(name)
+        if run is None:
+            continue
+        checks.append(unstable_row("dynamics", name, run) if isinstance(run, str)
+                      else check_dynamics(scene, run.states(), name, scene.dt))
+    checks.append(check_contact(scene, None if simulator is None else simulator))
+    checks += reference_rows(scene, tested, result.runs)
+    result.checks = checks
+
+    own_mapping = scene.mujoco.solref
+    for mapping in (own_mapping,) + tuple(m for m in SOLREF_MAPPINGS if m != own_mapping):
+        try:
+            twin = simulate_mujoco(scene, solref=mapping)
+        except SimulationDiverged as exc:
+            result.by_mapping[mapping] = {"error": str(exc)}
+            continue
+        row = metrics.compare(result.under_test, twin)
+        row["energy_drift_mujoco"] = metrics.energy_drift(twin)
+        row["wall_time_mujoco"] = twin.wall_time
+        result.by_mapping[mapping] = row
+        if mapping == own_mapping:
+            result.mujoco, result.metrics = twin, row
+    if result.mujoco is None:
+        raise RuntimeError(result.by_mapping[own_mapping]["error"])
+    result.attribution = attribute(scene)
+    if simulator is not None:
+        result.diagnosis = simulator.diagnose(scene, result.under_test)
+
+
+def _diverged(scene: Scene) -> SimulationDiverged:
+    """Run the scene's own integrator again to raise its divergence with step and state."""
+    try:
+        simulate(scene)
+    except SimulationDiverged as exc:
+        return exc
+    raise AssertionError("custom_runs reported a divergence that did not repeat")
+
+
+def reference_rows(scene: Scene, tested: dict, runs: dict) -> list[dict]:
+    """The error at the scene's dt against the converged reference, for each trajectory under
+    test, beside custom_sim's for the same integrator (shown, not judged: it is the integrator's
+    accuracy, not a defect)."""
+    from ..accuracy.reference import ReferenceError, solve_reference
+
+    rows = []
+    try:
+        ref = solve_reference(scene, np.arange(scene.steps + 1) * scene.dt)
+    except ReferenceError as exc:
+        return [{"name": "reference", "isolates": "accuracy at this dt", "integrator": None,
+                 "position_error_max": None, "angle_error_max": None, "tolerance_position": None,
+                 "tolerance_angle": None, "pass": None, "reason": f"no converged reference: {exc}"}]
+    for name, run in tested.items():
+        if isinstance(run, str):
+            continue
+        err = reference_error(run, ref.states)
+        mine = runs.get(name)
+        row = {"name": "reference", "isolates": "the integrator's error at this dt against the converged reference",
+               "integrator": name, **err, "tolerance_position": None, "tolerance_angle": None, "pass": None,
+               "reason": "shown, not judged: the numerical error of the integrator at the scene's dt"}
+        if mine is not None and not isinstance(mine, str) and mine is not run:
+            row["custom_sim_position_error_max"] = reference_error(mine, ref.states)["position_error_max"]
+        rows.append(row)
+    return rows
+
+
+def reference_error(run: Trajectory, ref_states: np.ndarray) -> dict:
+    s = run.states()
+    n = min(len(s), len(ref_states))
+    d = s[:n] - ref_states[:n]
+    return {"position_error_max": float(np.max(np.hypot(d[:, 0], d[:, 1]))),
+            "angle_error_max": float(np.max(np.abs(d[:, 2])))}
+
+
+def stability_warnings(scene: Scene) -> list[str]:
+    """One line per effect whose theoretical stability limit the scene's dt exceeds."""
+    from custom_sim import stability
+
+    limits = getattr(stability, "limits", None)
+    if limits is None:
+        limit = stable_step(scene)
+        return [] if scene.dt < limit else [
+            f"{scene.name}: dt = {scene.dt:g} s is outside the theory's stable step {limit:.3g} s for {scene.integrator}"]
+    return [f"{scene.name}: dt = {scene.dt:g} s is outside the theory's limit {dt:.3g} s for {effect} "
+            f"({scene.integrator})" for effect, dt in limits(scene, scene.integrator).items() if not scene.dt < dt]
 
 
 def metrics_json(result: Result) -> dict:
     """metrics.json: the keys CONTRACT.md names, then ours."""
-    scene, custom, twin, tol = result.scene, result.custom, result.mujoco, result.tolerance
+    scene, tested, twin = result.scene, result.under_test, result.mujoco
     m = result.metrics
     limit = stable_step(scene)
+    contact = next((c for c in result.checks if c["name"] == "contact"), None)
     return {
         "name": scene.name,
         "integrator": scene.integrator,
@@ -93,14 +239,18 @@ def metrics_json(result: Result) -> dict:
         "position_error_max": m["position_error_max"],
         "position_error_rms": m["position_error_rms"],
         "angle_error_max": m["angle_error_max"],
-        "energy_drift_custom": metrics.energy_drift(custom),
+        "energy_drift_custom": metrics.energy_drift(tested),
         "energy_drift_mujoco": metrics.energy_drift(twin),
-        "tolerance": {"position": tol.position, "angle": tol.angle, "terms": tol.terms,
-                      "reason": tol.reason, "mapping": scene.mujoco.solref, "checked": tol.checked},
+        "tolerance": {check_label(c): {"position": c["tolerance_position"], "angle": c["tolerance_angle"],
+                                       "reason": c["reason"]} for c in result.checks},
         "pass": result.passed,
-        "wall_time_custom": custom.wall_time,
+        "wall_time_custom": tested.wall_time,
         "wall_time_mujoco": twin.wall_time,
+        "checks": result.checks,
         # ours
+        "simulator": result.simulator,
+        "failed_checks": [check_label(c) for c in result.failed],
+        "warnings": result.warnings,
         "description": scene.description,
         "shape": scene.body.shape,
         "effects": list(scene.effects),
@@ -108,16 +258,18 @@ def metrics_json(result: Result) -> dict:
         "angular_velocity_error_max": m["angular_velocity_error_max"],
         "position_error_final": m["position_error_final"],
         "time_of_position_error_max": m["time_of_position_error_max"],
-        "energy_initial": float(custom.energy[0]),
-        "force_evals_custom": custom.force_evals,
-        "newton_iterations_custom": custom.newton_iterations,
+        "energy_initial": float(tested.energy[0]),
+        "force_evals_custom": result.custom.force_evals,
+        "newton_iterations_custom": result.custom.newton_iterations,
         "stable_dt_theory": None if limit == float("inf") else limit,
-        "dt_within_stability_limit": scene.dt < limit,
-        "events_custom": events.events(scene, custom),
+        "dt_within_stability_limit": not result.warnings,
+        "events_custom": events.events(scene, tested),
         "events_mujoco": events.events(scene, twin),
-        "mujoco": {k: v for k, v in twin.meta.items()},
+        "mujoco": dict(twin.meta),
         "mujoco_integrator": twin.integrator,
         "mujoco_dt": twin.dt,
         "mappings": result.by_mapping,
-        "without_friction": result.ablation,
+        "attribution": result.attribution,
+        "contact_check": contact,
+        "diagnosis": result.diagnosis,
     }

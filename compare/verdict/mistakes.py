@@ -33,6 +33,7 @@ from .step_check import COMPONENTS, check_step, phase, split_arrays, step_residu
 # Steps of a failing trajectory a variant is screened on before the whole trajectory is
 # stepped with it: the correct step's first failures (where a mistake shows) and a spread.
 SCREEN_STEPS = 400
+FIRST_SCREEN = 8      # the correct step's first failures: most variants are ruled out there
 
 
 @dataclass(frozen=True)
@@ -60,10 +61,11 @@ class Mistake:
     def integrator(self, named: str) -> str:
         return self.method.get(named, named)
 
-    def step(self, scene, Z, dt: float, integrator: str, eq: Equations | None = None):
+    def step(self, scene, Z, dt: float, integrator: str, eq: Equations | None = None,
+             input_rtol: float = 0.0):
         """The variant's one step from the states Z (N, 6): (Z1, bound, solved) as one_step."""
         eq = eq or self.equations(scene)
-        return one_step(eq, Z, dt, self.integrator(integrator), self.law)
+        return one_step(eq, Z, dt, self.integrator(integrator), self.law, input_rtol)
 
     def step_fn(self, scene, integrator: str):
         """The variant as a user's step function f(state, scene_dict, dt) -> state (a simulator
@@ -258,17 +260,20 @@ def _entry(m: Mistake) -> dict:
     return {"name": m.name, "seed_line": m.seed_line, "description": m.description}
 
 
-def _explains(m: Mistake, scene, states, integrator, dt, screen) -> dict:
-    """The variant's residual over the screened steps, then (if it survives) over all."""
+def _explains(m: Mistake, scene, states, integrator, dt, screen, input_rtol=0.0) -> dict:
+    """The variant's residual over each set of screened steps in turn, then (if it survives)
+    over the whole trajectory."""
     eq = m.equations(scene)
     method = m.integrator(integrator)
-    z0, z1 = states[screen], states[screen + 1]
-    mine, bound, solved = one_step(eq, z0, dt, method, m.law)
-    # a screened step off by more than round-off rules the variant out (where implicit Euler
-    # has no root the jump test decides, on the whole trajectory below)
-    if (solved is None or solved.all()) and not np.all(np.abs(mine - z1) <= bound):
-        return {**_entry(m), "explains": False, "screened_out": True}
-    res = step_residuals(eq, states, method, dt, m.law)
+    for rows in screen:
+        z0, z1 = states[rows], states[rows + 1]
+        mine, bound, solved = one_step(eq, z0, dt, method, m.law, input_rtol)
+        # a screened step off by more than round-off rules the variant out (where implicit
+        # Euler has no root the jump test decides, on the whole trajectory below)
+        rooted = np.ones(len(rows), dtype=bool) if solved is None else solved
+        if not np.all(np.abs(mine - z1)[rooted] <= bound[rooted]):
+            return {**_entry(m), "explains": False, "screened_out": True}
+    res = step_residuals(eq, states, method, dt, m.law, input_rtol)
     over = res.over.any(axis=1)
     first = int(np.argmax(over)) if over.any() else None
     return {**_entry(m), "explains": not over.any(),
@@ -277,14 +282,14 @@ def _explains(m: Mistake, scene, states, integrator, dt, screen) -> dict:
             "position_error_max": float(np.hypot(res.residual[:, 0], res.residual[:, 1]).max())}
 
 
-def diagnose(scene, states, integrator: str, dt: float) -> dict:
+def diagnose(scene, states, integrator: str, dt: float, input_rtol: float = 0.0) -> dict:
     """Which catalogued mistake (or pair) explains a trajectory that fails check `step`.
 
     Returns {"step": the step row (JSON-safe), "explained_by": [names], "mistakes": [per
     variant tried: name, seed_line, description, explains, first_step, ratio_max], "verdict":
     one line}. Variants are tried one at a time; pairs only when no single one explains."""
     states = np.asarray(states, dtype=float)
-    row, _ = split_arrays(check_step(scene, states, integrator, dt))
+    row, _ = split_arrays(check_step(scene, states, integrator, dt, input_rtol=input_rtol))
     out = {"step": row, "explained_by": [], "mistakes": []}
     if row["pass"] is None:
         out["verdict"] = f"not diagnosed: {row['reason']}"
@@ -295,15 +300,16 @@ def diagnose(scene, states, integrator: str, dt: float) -> dict:
     if "nonfinite_step" in row:
         states = states[:row["nonfinite_step"]]
     eq = Equations.from_scene(scene)
-    res = step_residuals(eq, states, integrator, dt)
+    res = step_residuals(eq, states, integrator, dt, input_rtol=input_rtol)
     failing = np.flatnonzero(res.over.any(axis=1))
     spread = np.linspace(0, states.shape[0] - 2, SCREEN_STEPS // 2).astype(int)
-    screen = np.unique(np.concatenate([failing[:SCREEN_STEPS // 2], spread]))
+    screen = (failing[:FIRST_SCREEN],
+              np.unique(np.concatenate([failing[:SCREEN_STEPS // 2], spread])))
     singles, pairs = _candidates(scene, integrator)
-    tried = [_explains(m, scene, states, integrator, dt, screen) for m in singles]
+    tried = [_explains(m, scene, states, integrator, dt, screen, input_rtol) for m in singles]
     found = [t["name"] for t in tried if t["explains"]]
     if not found:
-        tried_pairs = [_explains(m, scene, states, integrator, dt, screen) for m in pairs]
+        tried_pairs = [_explains(m, scene, states, integrator, dt, screen, input_rtol) for m in pairs]
         found = [t["name"] for t in tried_pairs if t["explains"]]
         tried += [t for t in tried_pairs if t["explains"]]
     out["mistakes"] = tried

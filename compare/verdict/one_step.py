@@ -39,37 +39,42 @@ IMPLICIT_SOLVE_TOL = 1e-10
 # The independent Newton solve here goes a thousand times below that, to round-off.
 OWN_SOLVE_TOL = 1e-13
 NEWTON_MAX_ITERATIONS = 60
+# Near a root Newton at least halves |G| per iteration; SLOW_PATIENCE iterations in a row that do
+# not are a row creeping towards a jump of G (no root there), not towards a root.
+SLOW_PROGRESS = 0.5
+SLOW_PATIENCE = 8
 
 METHODS = ("explicit_euler", "semi_implicit_euler", "implicit_euler", "rk4")
 
 
-def _velocity_bound(v0, v1, h, scale):
-    return STATE_ULPS * EPS * (np.abs(v0) + np.abs(v1)) + FORCE_ULPS * EPS * h * scale
+def _velocity_bound(v0, v1, h, scale, rtol=0.0):
+    return ((STATE_ULPS * EPS + 2.0 * rtol) * (np.abs(v0) + np.abs(v1))
+            + (FORCE_ULPS * EPS + 2.0 * rtol) * h * scale)
 
 
-def _position_bound(q0, q1, h, v):
-    return STATE_ULPS * EPS * (np.abs(q0) + np.abs(q1) + h * np.abs(v))
+def _position_bound(q0, q1, h, v, rtol=0.0):
+    return (STATE_ULPS * EPS + 2.0 * rtol) * (np.abs(q0) + np.abs(q1) + h * np.abs(v))
 
 
-def explicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
+def explicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW, rtol: float = 0.0):
     q0, v0 = Z[:, :3], Z[:, 3:]
     a, scale = accelerations(eq, Z, law)
     v1 = v0 + h * a
     q1 = q0 + h * v0
-    bv = _velocity_bound(v0, v1, h, scale)
-    return np.hstack([q1, v1]), np.hstack([_position_bound(q0, q1, h, v0), bv]), None
+    bv = _velocity_bound(v0, v1, h, scale, rtol)
+    return np.hstack([q1, v1]), np.hstack([_position_bound(q0, q1, h, v0, rtol), bv]), None
 
 
-def semi_implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
+def semi_implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW, rtol: float = 0.0):
     q0, v0 = Z[:, :3], Z[:, 3:]
     a, scale = accelerations(eq, Z, law)
     v1 = v0 + h * a
     q1 = q0 + h * v1
-    bv = _velocity_bound(v0, v1, h, scale)
-    return np.hstack([q1, v1]), np.hstack([_position_bound(q0, q1, h, v1) + h * bv, bv]), None
+    bv = _velocity_bound(v0, v1, h, scale, rtol)
+    return np.hstack([q1, v1]), np.hstack([_position_bound(q0, q1, h, v1, rtol) + h * bv, bv]), None
 
 
-def rk4(eq: Equations, Z, h, law: Law = SEED_LAW):
+def rk4(eq: Equations, Z, h, law: Law = SEED_LAW, rtol: float = 0.0):
     weights = (1.0, 2.0, 2.0, 1.0)
     nodes = (0.5, 0.5, 1.0)
     total = np.zeros_like(Z)
@@ -85,8 +90,8 @@ def rk4(eq: Equations, Z, h, law: Law = SEED_LAW):
         if s < 3:
             stage = Z + nodes[s] * h * k
     Z1 = Z + h / 6.0 * total
-    bv = _velocity_bound(Z[:, 3:], Z1[:, 3:], h, scale)
-    bq = _position_bound(Z[:, :3], Z1[:, :3], h, speed) + h * bv
+    bv = _velocity_bound(Z[:, 3:], Z1[:, 3:], h, scale, rtol)
+    bq = _position_bound(Z[:, :3], Z1[:, :3], h, speed, rtol) + h * bv
     return Z1, np.hstack([bq, bv]), None
 
 
@@ -97,7 +102,7 @@ def implicit_residual(eq: Equations, Z, V, h, law: Law = SEED_LAW):
     return V - Z[:, 3:] - h * a, scale
 
 
-def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
+def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW, rtol: float = 0.0):
     """Damped Newton on G(v1) = 0 for every row at once, from the explicit predictor, with a
     forward-difference Jacobian (the kinks of the law make an analytic one no better). Returns
     (Z1, bound, solved): solved (N,) is False where no root was found, which happens where G
@@ -108,11 +113,13 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
     G, scale = implicit_residual(eq, Z, V, h, law)
     size = np.max(np.abs(G), axis=1)
     solved = np.zeros(Z.shape[0], dtype=bool)
+    stuck = np.zeros(Z.shape[0], dtype=bool)   # no step lowers |G|: at a jump, or at round-off
+    slow = np.zeros(Z.shape[0], dtype=int)     # iterations in a row that did not halve |G|
     eye = np.eye(3)
     for _ in range(NEWTON_MAX_ITERATIONS):
         floor = 4.0 * EPS * np.max(np.abs(V) + h * scale, axis=1)
         solved = size <= np.maximum(OWN_SOLVE_TOL, floor)
-        todo = np.flatnonzero(~solved)
+        todo = np.flatnonzero(~solved & ~stuck)
         if todo.size == 0:
             break
         Zt, Vt, Gt = Z[todo], V[todo], G[todo]
@@ -131,7 +138,7 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
         t = np.ones(todo.size)
         best_V, best_G, best_size, best_scale = Vt, Gt, size[todo], scale[todo]
         pending = np.ones(todo.size, dtype=bool)
-        for _ in range(40):
+        for _ in range(30):
             idx = np.flatnonzero(pending)
             Vtr = Vt[idx] + t[idx, None] * dv[idx]
             Gtr, str_ = implicit_residual(eq, Zt[idx], Vtr, h, law)
@@ -143,14 +150,15 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
             t[idx[~ok]] *= 0.5
             if not pending.any():
                 break
+        slow[todo] = np.where(best_size > SLOW_PROGRESS * size[todo], slow[todo] + 1, 0)
         V[todo], G[todo], size[todo], scale[todo] = best_V, best_G, best_size, best_scale
-        if pending.all():
-            break  # no row improves: at a jump, or at round-off
+        stuck[todo[pending]] = True
+        stuck[todo[slow[todo] >= SLOW_PATIENCE]] = True
     floor = 4.0 * EPS * np.max(np.abs(V) + h * scale, axis=1)
     solved = size <= np.maximum(OWN_SOLVE_TOL, floor)
     q1 = Z[:, :3] + h * V
-    bv = _velocity_bound(v0, V, h, scale) + IMPLICIT_SOLVE_TOL
-    bq = _position_bound(Z[:, :3], q1, h, V) + h * bv
+    bv = _velocity_bound(v0, V, h, scale, rtol) + IMPLICIT_SOLVE_TOL
+    bq = _position_bound(Z[:, :3], q1, h, V, rtol) + h * bv
     return np.hstack([q1, V]), np.hstack([bq, bv]), solved
 
 
@@ -158,12 +166,14 @@ STEPS = {"explicit_euler": explicit_euler, "semi_implicit_euler": semi_implicit_
          "implicit_euler": implicit_euler, "rk4": rk4}
 
 
-def one_step(eq: Equations, Z, h: float, method: str, law: Law = SEED_LAW):
+def one_step(eq: Equations, Z, h: float, method: str, law: Law = SEED_LAW, rtol: float = 0.0):
     """(Z1, bound, solved) for states Z (N, 6): one step of `method` from each row, the
     round-off bound of each component (N, 6), and (implicit Euler) which rows have a root
-    (None for the explicit methods)."""
+    (None for the explicit methods). rtol: relative rounding of the given states beyond double
+    precision (a CSV of 10 significant digits: 5e-10); it enters the bound as round-off does,
+    on the states and, through the force terms' magnitudes, on the accelerations."""
     Z = np.ascontiguousarray(np.atleast_2d(Z), dtype=float)
-    return STEPS[method](eq, Z, float(h), law)
+    return STEPS[method](eq, Z, float(h), law, float(rtol))
 
 
 def jump_defect(eq: Equations, Z, Z1, h: float, law: Law = SEED_LAW):

@@ -56,9 +56,10 @@ class StepResiduals:
 
 
 def step_residuals(eq: Equations, states: np.ndarray, integrator: str, dt: float,
-                   law: Law = SEED_LAW) -> StepResiduals:
+                   law: Law = SEED_LAW, input_rtol: float = 0.0) -> StepResiduals:
     """One step of `integrator` (with the force law `law`) from every row of states (T, 6)
-    but the last, against the next row."""
+    but the last, against the next row; input_rtol: the states' relative rounding beyond
+    double precision (see one_step)."""
     states = np.asarray(states, dtype=float)
     n = states.shape[0] - 1
     residual = np.empty((n, 6))
@@ -68,7 +69,7 @@ def step_residuals(eq: Equations, states: np.ndarray, integrator: str, dt: float
     for lo in range(0, n, CHUNK):
         hi = min(n, lo + CHUNK)
         Z0, Z1 = states[lo:hi], states[lo + 1:hi + 1]
-        mine, b, solved = one_step(eq, Z0, dt, integrator, law)
+        mine, b, solved = one_step(eq, Z0, dt, integrator, law, input_rtol)
         r = np.abs(mine - Z1)
         if solved is not None and not solved.all():
             rows = np.flatnonzero(~solved)
@@ -132,9 +133,11 @@ def _first_bad_finite(states: np.ndarray) -> int | None:
     return None if ok.all() else int(np.argmin(ok))
 
 
-def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED_LAW) -> dict:
+def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED_LAW,
+               input_rtol: float = 0.0) -> dict:
     """The `step` check row for the trajectory `states` (steps + 1, 6), row 0 at t = 0, run with
-    `integrator` at step `dt` (s). Extra keys: first_step, first_time, phase, component,
+    `integrator` at step `dt` (s). input_rtol: relative rounding of the states beyond double
+    precision, for trajectories read from text (10 significant digits: 5e-10), 0 otherwise. Extra keys: first_step, first_time, phase, component,
     residual_max (per component), bound_ratio_max, no_root_steps, steps_checked, and
     "residual": the (steps, 6) per-step residual array (not JSON: pop it, see ARRAY_KEYS)."""
     states = np.asarray(states, dtype=float)
@@ -159,7 +162,7 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
             row["pass"] = False
             return row
     eq = Equations.from_scene(scene)
-    res = step_residuals(eq, states, integrator, dt, law)
+    res = step_residuals(eq, states, integrator, dt, law, input_rtol)
     r, b = res.residual, res.bound
     over = res.over
     ratio = res.ratio()
@@ -183,15 +186,16 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
              f"were judged at the jump (d = 0 and the hull of the jump)" if res.no_root.any() else "")
     row["reason"] = (f"round-off of two codes evaluating the same step, per step and component: "
                      f"{STATE_ULPS:g} ulps of |z0| + |z1| and {FORCE_ULPS:g} ulps of h times the "
-                     f"magnitude of the force terms{solve}{jumps}; the tolerances shown are the "
-                     f"largest per-step bounds")
+                     f"magnitude of the force terms{solve}{jumps}"
+                     + (f"; the states' own rounding {input_rtol:g} (relative) on both" if input_rtol else "")
+                     + "; the tolerances shown are the largest per-step bounds")
     if failing.size:
         i = int(failing[0])
         comp = int(np.argmax(np.where(over[i], ratio[i], -1.0)))
         where = phase(eq, states[i], states[i + 1])
         if res.no_root[i]:
             where = (f"touchdown of point {_point_name(eq, int(res.jump_point[i]))} where the implicit "
-                     f"equation has no root (judged at the jump); before it: {where}")
+                     f"equation has no root (judged at the jump); before it: {phase(eq, states[i])}")
         row.update(first_step=i + 1, first_time=float((i + 1) * dt), phase=where,
                    component=COMPONENTS[comp],
                    failing_steps=int(failing.size),

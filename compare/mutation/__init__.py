@@ -1,0 +1,1 @@
+"""The harness's own mutation test: typical mistakes put into copies of custom_sim (catalogue.py)."""

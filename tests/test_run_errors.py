@@ -1,0 +1,59 @@
+"""No crash reaches the user: a scenario that fails in any way becomes its own error row.
+
+A worker process that dies, an exception inside one scenario (MuJoCo refusing a model, say):
+the other scenarios finish, the exit status is 1, the row names the cause in one line, and
+nothing half-written is left behind.
+"""
+import os
+
+import pytest
+
+from compare.commands import run as run_command
+from compare.scenarios import load
+from test_cli import short_scene
+
+DYING = "point_drop_short"
+RUN_ONE = run_command.run_one
+
+
+def dying_worker(scene, out, simulator=None):
+    """A worker that is killed while running one scene (as a segfault in compiled code would)."""
+    if scene.name == DYING:
+        os._exit(70)
+    return RUN_ONE(scene, out, simulator)
+
+
+def test_a_worker_that_dies_costs_only_its_scenario(tmp_path, monkeypatch):
+    scenes = [load(str(short_scene(tmp_path, "point_drop", 0.3))),
+              load(str(short_scene(tmp_path, "box_slide", 0.3)))]
+    monkeypatch.setattr(run_command, "run_one", dying_worker)  # the forked workers see it too
+    out = tmp_path / "out"
+    out.mkdir()
+    rows, failures = run_command.run_all(scenes, out, jobs=2)
+    assert set(rows) == {"box_slide_short"}, rows.keys()
+    status, cause = failures[DYING]
+    assert status == "error" and "died" in cause
+    assert not [p for p in out.iterdir() if p.name.startswith(".")], "no temporary left behind"
+
+
+def test_an_exception_in_a_scenario_becomes_its_error_row(tmp_path, monkeypatch):
+    import mujoco_models
+
+    def refuse(*args, **kwargs):
+        raise ValueError("mass and inertia of moving bodies must be larger than mjMINVAL\nsecond line")
+
+    monkeypatch.setattr(mujoco_models, "simulate_mujoco", refuse)
+    scene = load(str(short_scene(tmp_path, "point_drop", 0.2)))
+    out = tmp_path / "out"
+    out.mkdir()
+    row, failure = run_command.run_one(scene, str(out))
+    assert row is None
+    status, cause = failure
+    assert status == "error"
+    assert cause == "ValueError: mass and inertia of moving bodies must be larger than mjMINVAL"
+    assert list(out.iterdir()) == []
+
+
+@pytest.mark.parametrize("exc, expected", [(ValueError("a\nb"), "ValueError: a"), (RuntimeError(""), "RuntimeError")])
+def test_one_line_cause(exc, expected):
+    assert run_command.one_line(exc) == expected
