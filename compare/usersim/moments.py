@@ -75,11 +75,13 @@ def pick_moments(scene: Scene, states: np.ndarray) -> list[Moment]:
         lever = np.where(fast, np.abs(om[:, None] * ry), 0.0).max(axis=1)
         # a corner sliding while the body turns: where friction's velocity and lever matter most
         score = np.where(fast.any(axis=1), lever + 1e-12 * np.abs(slip).max(axis=1), -1.0)
+        score[[m.row for m in out]] = -1.0   # another state than the moments already picked
         i = int(np.argmax(score))
         if score[i] >= 0.0:
             j = int(np.argmax(np.where(fast[i], np.abs(slip[i]), -1.0)))
-            out.append(Moment("sliding", i, f"point {j} sliding at {slip[i, j]:.3g} m/s while turning at "
-                                            f"{om[i]:.3g} rad/s, t = {i * scene.dt:.4g} s"))
+            turning = f" while turning at {om[i]:.3g} rad/s" if props.rotates else ""
+            out.append(Moment("sliding", i, f"point {j} sliding at {slip[i, j]:.3g} m/s{turning}, "
+                                            f"t = {i * scene.dt:.4g} s"))
 
     if scene.body.shape == "circle" and touch_rows.size:
         rolling = any_touch & (np.abs(slip[:, 0]) <= band) & (np.abs(om) * size > band)
