@@ -28,9 +28,8 @@ import numpy as np
 
 from numba import njit
 
-from custom_sim import INTEGRATORS, Scene, simulate
-from custom_sim.integrators import (EXPLICIT_EULER, IMPLICIT_EULER, NEWTON_TOL, SEMI_IMPLICIT_EULER,
-                                    explicit_euler_step, implicit_euler_step, rk4_step,
+from custom_sim import Scene, simulate
+from custom_sim.integrators import (NEWTON_TOL, explicit_euler_step, implicit_euler_step, rk4_step,
                                     semi_implicit_euler_step)
 from custom_sim.model import build_model, initial_state
 from custom_sim.scene import Initial
@@ -118,26 +117,55 @@ def _deviation(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.hypot(d[:, 0], d[:, 1]), np.abs(d[:, 2])
 
 
+@njit(cache=True, inline="always")
+def _add_rounding(z, noise, i, out):
+    """noise[i, j] * eps * |z_j| added to each component (relative rounding), noise[i, 3 + j] to
+    each velocity (absolute: a Newton tolerance); the state into out[i]."""
+    for j in range(6):
+        z[j] += noise[i, j] * EPS * abs(z[j])
+        if j >= 3:
+            z[j] += noise[i, 3 + j]
+        out[i, j] = z[j]
+
+
+# One compiled kernel per integrator (a scene compiles only the step it uses): n steps of
+# custom_sim's own step function from z, each followed by _add_rounding.
 @njit(cache=True)
-def _stepped_with_rounding(model, points, z, h, n, method, noise, out):
-    """custom_sim's own step functions, n steps from z, each followed by noise[i, j] * eps * |z_j|
-    added to each component (relative rounding); the state after step i into out[i]."""
+def _explicit_euler_rounded(model, points, z, h, n, noise, out):
+    counters = np.zeros(4, dtype=np.int64)
+    for i in range(n):
+        explicit_euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters)
+        _add_rounding(z, noise, i, out)
+
+
+@njit(cache=True)
+def _semi_implicit_euler_rounded(model, points, z, h, n, noise, out):
+    counters = np.zeros(4, dtype=np.int64)
+    for i in range(n):
+        semi_implicit_euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters)
+        _add_rounding(z, noise, i, out)
+
+
+@njit(cache=True)
+def _implicit_euler_rounded(model, points, z, h, n, noise, out):
     counters = np.zeros(4, dtype=np.int64)
     work = np.zeros((18, 6))
     for i in range(n):
-        if method == SEMI_IMPLICIT_EULER:
-            semi_implicit_euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters)
-        elif method == EXPLICIT_EULER:
-            explicit_euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters)
-        elif method == IMPLICIT_EULER:
-            implicit_euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters, work)
-        else:
-            rk4_step(model, points, z, h, 0.0, 0.0, 0.0, counters, work)
-        for j in range(6):
-            z[j] += noise[i, j] * EPS * abs(z[j])
-            if j >= 3:
-                z[j] += noise[i, 6 + j - 3]
-            out[i, j] = z[j]
+        implicit_euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters, work)
+        _add_rounding(z, noise, i, out)
+
+
+@njit(cache=True)
+def _rk4_rounded(model, points, z, h, n, noise, out):
+    counters = np.zeros(4, dtype=np.int64)
+    work = np.zeros((18, 6))
+    for i in range(n):
+        rk4_step(model, points, z, h, 0.0, 0.0, 0.0, counters, work)
+        _add_rounding(z, noise, i, out)
+
+
+_ROUNDED = {"explicit_euler": _explicit_euler_rounded, "semi_implicit_euler": _semi_implicit_euler_rounded,
+            "implicit_euler": _implicit_euler_rounded, "rk4": _rk4_rounded}
 
 
 def _injected_run(scene: Scene, seed: int, implicit: bool) -> np.ndarray:
@@ -154,7 +182,7 @@ def _injected_run(scene: Scene, seed: int, implicit: bool) -> np.ndarray:
     out = np.empty((n + 1, 6))
     z = initial_state(scene)
     out[0] = z
-    _stepped_with_rounding(model, points, z, scene.dt, n, INTEGRATORS[scene.integrator].code, noise, out[1:])
+    _ROUNDED[scene.integrator](model, points, z, scene.dt, n, noise, out[1:])
     return out
 
 
