@@ -5,7 +5,6 @@ the harness's, not the standard library's or installed packages'), then the one 
 """
 from __future__ import annotations
 
-import sys
 import sysconfig
 import traceback
 from pathlib import Path
