@@ -14,10 +14,11 @@ The envelope is measured on custom_sim itself, the way the motion carries it:
 2. initial state: each component of the initial state moved by one ulp (both signs), against
    the plain run (this alone reaches the touchdown switch and tumbling amplification).
 
-The tolerance is SAFETY times the largest position (angle) difference seen, and never below
-FLOOR_ULPS ulps of the motion's size: an ensemble is a sample, not a bound (seeds spread by
-a factor of about 2 here), and SAFETY covers the spread between a sample's largest
-difference and the unseen ones.
+The tolerance up to each row is SAFETY times the largest position (angle) difference seen so
+far, and never below FLOOR_ULPS ulps of the motion's size. An ensemble is a sample, not a bound:
+over eight seeds on the built-in scenes the largest difference was at most 3.4 times the largest
+of the two seeds used (point_drop; 1.0 to 3.1 elsewhere), which SAFETY covers. Where the
+tolerance passes HORIZON_FRACTION of the motion's size, the rows from there on are not judged.
 """
 from __future__ import annotations
 
