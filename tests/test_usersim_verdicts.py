@@ -170,3 +170,16 @@ def test_an_unknown_integrator_is_not_diagnosed_but_said(tmp_path):
     scene = dataclasses.replace(load("box_slide"), duration=0.02)
     diag = diagnosis(sim, scene, run_user(sim, scene).states())
     assert diag["named"] == [] and "verlet" in diag["verdict"] and "not" in diag["verdict"]
+
+
+def test_validate_command_exit_status(tmp_path, capsys):
+    from compare.usersim.validate import main as validate
+    text = (ROOT / "scenarios" / "box_drop.toml").read_text().replace("duration = 2.0", "duration = 0.3")
+    (tmp_path / "short.toml").write_text(text)
+    scene = str(tmp_path / "short.toml")
+    assert validate([str(ROOT / "examples" / "seed_sim.py") + ":step", scene]) == 0
+    assert validate([str(ROOT / "examples" / "buggy_sim.py") + ":step", scene]) == 1
+    out = capsys.readouterr().out
+    assert "box_inertia_about_corner" in out and "FAIL" in out
+    assert validate([str(tmp_path / "nope.py") + ":step", scene]) == 2
+    assert "no such file" in capsys.readouterr().err
