@@ -61,7 +61,10 @@ def _clear_stale_kernel() -> None:
     here = Path(__file__).resolve()
     sources = sorted(Path(custom_sim.__file__).resolve().parent.glob("*.py")) + [here]
     digest = hashlib.sha256(b"".join(p.read_bytes() for p in sources)).hexdigest()
-    cache = here.parent / "__pycache__"
+    try:  # numba's folder for this file: __pycache__ beside it, or under NUMBA_CACHE_DIR
+        cache = Path(_semi_implicit_euler_rounded._cache._cache_path)
+    except Exception:  # another numba layout: its default, in-tree
+        cache = here.parent / "__pycache__"
     stamp = cache / "roundoff_numba_sources.sha256"
     try:
         if stamp.read_text() == digest:
@@ -69,15 +72,13 @@ def _clear_stale_kernel() -> None:
     except OSError:
         pass
     try:
-        cache.mkdir(exist_ok=True)
+        cache.mkdir(parents=True, exist_ok=True)
         for stale in [*cache.glob("roundoff.*.nbi"), *cache.glob("roundoff.*.nbc")]:
             stale.unlink(missing_ok=True)
         stamp.write_text(digest)
     except OSError:
         pass
 
-
-_clear_stale_kernel()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -167,6 +168,7 @@ def _rk4_rounded(model, points, z, h, n, noise, out):
 
 _ROUNDED = {"explicit_euler": _explicit_euler_rounded, "semi_implicit_euler": _semi_implicit_euler_rounded,
             "implicit_euler": _implicit_euler_rounded, "rk4": _rk4_rounded}
+_clear_stale_kernel()   # before any kernel loads from the cache
 
 
 def _injected_run(scene: Scene, seed: int, implicit: bool) -> np.ndarray:
