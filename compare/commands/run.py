@@ -40,6 +40,14 @@ def add_arguments(parser) -> None:
     which.add_argument("--trajectories", metavar="DIR",
                        help="precomputed runs DIR/<scene name>.csv, columns by header name: t,x,y,theta,vx,vy,omega "
                             "required (energy optional), first row t = 0, then one row per step of dt")
+    parser.set_defaults(load_simulator=_load_simulator)
+
+
+def _load_simulator(args, scenes):
+    """The simulator under test from --sim/--whole/--trajectories (None: custom_sim), its bad
+    input raised before anything is written."""
+    from ..usersim import for_run
+    return for_run(args, scenes)
 
 
 def one_line(exc: BaseException) -> str:

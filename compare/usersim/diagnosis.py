@@ -76,7 +76,7 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray) -> dict:
                   what was seen (the trajectory's explanation first; the moments' if it has none)
     verdict       one line
     """
-    integrator = simulator.integrator(scene)
+    integrator = simulator.integrator_for(scene)
     states = np.asarray(states, dtype=float)
     traj = mistakes.diagnose(scene, states, integrator, scene.dt)
     moments = _moments(simulator, scene, integrator) if getattr(simulator, "kind", "") == "step" else None
@@ -101,9 +101,14 @@ def _fmt(v) -> str:
     return "" if v is None else f"{v:.3g}" if isinstance(v, float) else str(v)
 
 
-def render_markdown(diag: dict) -> str:
+def diagnosis_markdown(diag: dict) -> str:
+    """The body of the report's Diagnosis section (markdown, its heading left to the page)."""
+    return render_markdown(diag, heading=False)
+
+
+def render_markdown(diag: dict, heading: bool = True) -> str:
     """The report's "Diagnosis" section (markdown)."""
-    lines = ["## Diagnosis", "", f"**{diag['verdict']}**", ""]
+    lines = (["## Diagnosis", ""] if heading else []) + [f"**{diag['verdict']}**", ""]
     if diag["named"]:
         lines += ["| mistake | seed line | what it does |", "|---|---|---|"]
         lines += [f"| `{n['name']}` | {n['seed_line']} | {n['description']} |" for n in diag["named"]]

@@ -142,7 +142,38 @@ def _state_text(z) -> str:
     return "[" + ", ".join(f"{v:.6g}" for v in z) + "]"
 
 
-class StepFunction:
+class _Simulator:
+    """What every way in answers: run(scene) -> UserRun, integrator_for(scene), and for the
+    report: name, integrator (of the scene last run), diagnose(scene, trajectory).
+
+    reruns: whether it can run a scene it was not given files for (a variant the harness
+    derives, e.g. friction switched off): True for functions, False for a folder of CSVs."""
+
+    kind = ""
+    label = ""
+    reruns = True
+    _scene = None
+
+    @property
+    def name(self) -> str:
+        return self.label
+
+    @property
+    def integrator(self) -> str | None:
+        """The integrator of the scene last run (declared, or that scene's)."""
+        return None if self._scene is None else self.integrator_for(self._scene)
+
+    def run(self, scene: Scene) -> UserRun:
+        self._scene = scene
+        return self._run(scene)
+
+    def diagnose(self, scene: Scene, trajectory) -> dict:
+        """diagnosis(self, scene, trajectory.states()): see compare/usersim/diagnosis.py."""
+        from .diagnosis import diagnosis
+        return diagnosis(self, scene, trajectory.states())
+
+
+class StepFunction(_Simulator):
     """`step(state, scene, dt) -> state`, called in a plain Python loop.
 
     The first call gets a numpy array (float, length 6); each later call gets what the previous
@@ -159,7 +190,7 @@ class StepFunction:
     def __reduce__(self):  # a process pool re-imports it by name
         return (StepFunction, (self.spec,))
 
-    def integrator(self, scene: Scene) -> str:
+    def integrator_for(self, scene: Scene) -> str:
         return _declared_integrator(self.module, scene)
 
     def call(self, state, scene_d: dict, dt: float, step: int = 1) -> np.ndarray:
@@ -171,7 +202,7 @@ class StepFunction:
         self._first_returned = out
         return _as_state(out, self.spec, step)
 
-    def run(self, scene: Scene) -> UserRun:
+    def _run(self, scene: Scene) -> UserRun:
         n, dt, step = scene.steps, scene.dt, self.function
         sd = scene_dict(scene)
         out = np.empty((n + 1, 6))
@@ -218,10 +249,10 @@ class StepFunction:
             raise UserCodeError(f"{self.spec} returned a non-finite state {_state_text(out[bad])} at step {bad} "
                                 f"(t = {bad * dt:.6g} s) from {_state_text(out[bad - 1])} "
                                 f"(expected 6 finite numbers {STATE})")
-        return UserRun(out, None, wall, self.integrator(scene))
+        return UserRun(out, None, wall, self.integrator_for(scene))
 
 
-class WholeFunction:
+class WholeFunction(_Simulator):
     """`simulate(scene) -> array (steps + 1, 6)` (or 7 columns, the 7th the energy in J)."""
 
     kind = "whole"
@@ -234,10 +265,10 @@ class WholeFunction:
     def __reduce__(self):
         return (WholeFunction, (self.spec,))
 
-    def integrator(self, scene: Scene) -> str:
+    def integrator_for(self, scene: Scene) -> str:
         return _declared_integrator(self.module, scene)
 
-    def run(self, scene: Scene) -> UserRun:
+    def _run(self, scene: Scene) -> UserRun:
         n = scene.steps
         start = time.perf_counter()
         try:
@@ -260,7 +291,7 @@ class WholeFunction:
                                 f"on scene {scene.name}: {_state_text(data[bad])} (expected finite numbers)")
         _check_initial(data[0, :6], scene, f"{self.spec} on scene {scene.name}: row 0")
         energy = data[:, 6].copy() if data.shape[1] == 7 else None
-        return UserRun(np.ascontiguousarray(data[:, :6]), energy, wall, self.integrator(scene))
+        return UserRun(np.ascontiguousarray(data[:, :6]), energy, wall, self.integrator_for(scene))
 
 
 def _check_initial(z0: np.ndarray, scene: Scene, where: str) -> None:
@@ -288,11 +319,12 @@ def written_digits(values: np.ndarray, sample: int = 200) -> int | None:
     return most or None
 
 
-class TrajectoryFiles:
+class TrajectoryFiles(_Simulator):
     """Precomputed runs: DIR/<scene name>.csv, columns by header name (t,x,y,theta,vx,vy,omega
     required; energy optional), first row t = 0, then one row per step of dt."""
 
     kind = "trajectories"
+    reruns = False
 
     def __init__(self, folder: str):
         self.folder = Path(folder)
@@ -314,13 +346,13 @@ class TrajectoryFiles:
     def __reduce__(self):
         return (TrajectoryFiles, (str(self.folder),))
 
-    def integrator(self, scene: Scene) -> str:
+    def integrator_for(self, scene: Scene) -> str:
         return self._declared or scene.integrator
 
     def path(self, scene: Scene) -> Path:
         return self.folder / f"{scene.name}.csv"
 
-    def run(self, scene: Scene) -> UserRun:
+    def _run(self, scene: Scene) -> UserRun:
         from custom_sim import read_csv
 
         path = self.path(scene)
@@ -353,7 +385,7 @@ class TrajectoryFiles:
         states = np.column_stack([cols[c] for c in ("x", "y", "theta", "vx", "vy", "omega")])
         _check_initial(states[0], scene, f"{path}: row 2 (t = 0)")
         energy = cols.get("energy")
-        return UserRun(states, None if energy is None else np.array(energy), None, self.integrator(scene),
+        return UserRun(states, None if energy is None else np.array(energy), None, self.integrator_for(scene),
                        written_digits(states))
 
 
@@ -366,7 +398,16 @@ def preflight(simulator, scenes) -> None:
             simulator.run(scene)
         elif simulator.kind == "step":
             simulator.call(initial_state(scene), scene_dict(scene), scene.dt, 1)
-        simulator.integrator(scene)
+        simulator.integrator_for(scene)
+
+
+def for_run(args, scenes):
+    """run's hook (args.load_simulator): the simulator its flags name, checked on every scene
+    before anything is written (preflight); None for custom_sim."""
+    simulator = from_args(args)
+    if simulator is not None:
+        preflight(simulator, scenes)
+    return simulator
 
 
 def load_simulator(spec: str | None = None, whole: bool = False, trajectories: str | None = None):
