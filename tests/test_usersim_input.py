@@ -237,14 +237,11 @@ def test_the_error_survives_a_process_pool():
     assert isinstance(err, BadInput) and str(err) == "one line" and err.details == "Traceback ..."
 
 
-def test_run_refuses_a_bad_simulator_before_writing_anything(tmp_path):
-    import subprocess
-    import sys
+def test_run_refuses_a_bad_simulator_before_writing_anything(tmp_path, capsys):
     bad = module(tmp_path, "def step(state, scene, dt):\n    return state[9]\n", "bad")
     for flags in (["--sim", bad + ":step"], ["--sim", str(tmp_path / "absent.py") + ":step"],
                   ["--trajectories", str(tmp_path)], ["--whole"]):
         out = tmp_path / "out"
-        proc = subprocess.run([sys.executable, "-m", "compare", "run", "box_slide", "--out", str(out), *flags],
-                              capture_output=True, text=True, cwd=ROOT)
-        assert proc.returncode == 2, (flags, proc.stderr)
-        assert proc.stderr.strip().splitlines()[-1].startswith("error: ") and not out.exists(), flags
+        assert main(["run", "box_slide", "--out", str(out), *flags]) == 2, flags
+        err = capsys.readouterr().err.strip().splitlines()
+        assert err[-1].startswith("error: ") and not out.exists(), flags
