@@ -32,11 +32,16 @@ def _row(**kw) -> dict:
 
 
 def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt: float,
-                    written_digits: int | None = None) -> dict:
+                    written_digits: int | None | str = "auto") -> dict:
     """The check row (CHECKS.md) for states (steps + 1, 6) of the simulator under test, which
     names `integrator` and steps by dt (s). written_digits: significant digits the states
-    were stored with (a CSV), None for full double precision."""
+    were stored with (a CSV), None for full double precision, "auto": read off the numbers
+    (the fewest digits that reproduce every sampled value; full precision stops at the first
+    value that needs 16)."""
     states = np.asarray(states, dtype=float)
+    if written_digits == "auto":
+        from compare.usersim.loader import written_digits as digits_of
+        written_digits = digits_of(states)
     if integrator not in INTEGRATORS:
         return _row(integrator=integrator,
                     reason=f"not judged: integrator {integrator!r} is not one custom_sim has "
