@@ -61,8 +61,9 @@ def main(args) -> int:
     index = write_index(out, ordered, failures)
     for r in ordered:
         verdict = "pass" if r["pass"] else "FAIL"
-        print(f"{r['name']:<20} {verdict:<5} position {r['position_error_max']:.3e} m "
-              f"(tolerance {r['tolerance']['position']:.3e} m), angle {r['angle_error_max']:.3e} rad")
+        failed = [c["name"] for c in r.get("checks", []) if c["pass"] is False]
+        print(f"{r['name']:<20} {verdict:<5} MuJoCo native: position {r['position_error_max']:.3e} m, angle "
+              f"{r['angle_error_max']:.3e} rad (attributed){'; failed: ' + ', '.join(failed) if failed else ''}")
     for name, _ in failures:
         print(f"{name:<20} diverged: no report written")
     print(f"report: {index}")

@@ -15,23 +15,11 @@ from custom_sim import write_csv
 
 from ..verdict import metrics
 from . import plots
+from ..verdict.attribution import CAUSES
 from ..verdict.comparison import Result, metrics_json
 
-TERM_CAUSES = {
-    "impedance": "MuJoCo's penalty row reproduces k d + c v up to a relative 1e-4 (its impedance d = 1e-4 times "
-                 "the gap between the contact's true inverse inertia and the constant A_hat it is scaled by).",
-    "switching": "each simulator starts and ends a contact on its own step grid, so a switch can lag by a step.",
-    "damping law": "the scene damps only while the body approaches the ground (the seed's compression law); "
-                   "MuJoCo damps both ways, clamped at zero, so its body rebounds lower and lands at other times.",
-    "friction": "MuJoCo's friction (penalty mapping) is viscous with tanh's slope at rest, capped at mu Fn; ours "
-                "is mu Fn tanh(alpha v): both brake at mu g while sliding fast, and part in the slow tail before "
-                "the body stops.",
-    "impact friction": "when a corner lands, its slip passes through zero; there ours grips within 1/alpha "
-                       "of zero slip and MuJoCo's viscous row within mu Fn / c_t, which is wider at impact forces, "
-                       "so the body leaves each landing with a slightly different spin and slide.",
-    "rolling": "MuJoCo's rolling resistance shares one friction cone with sliding: while the disk slides it is "
-               "about zero, ours is mu_roll Fn from the start, so ours rolls away a little slower.",
-}
+# The causes of the full comparison's difference, by attribution rung (compare/verdict/attribution.py)
+TERM_CAUSES = CAUSES
 
 
 def _fmt(x, unit: str = "") -> str:
@@ -89,10 +77,22 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         "",
         scene.description,
         "",
-        f"**{'PASS' if result.passed else 'FAIL'}**: the largest position difference is "
-        f"{_fmt(data['position_error_max'], ' m')} at t = {_fmt(data['time_of_position_error_max'], ' s')} "
-        f"(tolerance {_fmt(tol.position, ' m')}), the largest angle difference {_fmt(data['angle_error_max'], ' rad')} "
-        f"(tolerance {_fmt(tol.angle, ' rad')}).",
+        f"**{'PASS' if result.passed else 'FAIL'}**. With every effect on, the largest position difference "
+        f"from MuJoCo's native contact is {_fmt(data['position_error_max'], ' m')} at "
+        f"t = {_fmt(data['time_of_position_error_max'], ' s')}, the largest angle difference "
+        f"{_fmt(data['angle_error_max'], ' rad')}: "
+        + (f"judged against the scene's own tolerance {_fmt(tol.position, ' m')}, {_fmt(tol.angle, ' rad')} "
+           f"({tol.reason})." if tol.checked else
+           "shown, not judged; *Why the two differ* measures each cause."),
+        "",
+        "## Checks",
+        "",
+        "| check | what it isolates | largest difference | tolerance | verdict |",
+        "|---|---|---|---|---|",
+        *[f"| {c['name']} | {c['isolates']} | {_fmt(c['position_error_max'], ' m')}, {_fmt(c['angle_error_max'], ' rad')} "
+          f"| {_fmt(c['tolerance_position'], ' m')}, {_fmt(c['tolerance_angle'], ' rad')} "
+          f"| {'not judged' if c['pass'] is None else ('pass' if c['pass'] else '**FAIL**')}: {c['reason']} |"
+          for c in result.checks],
         "",
         "## The scene",
         "",
@@ -147,7 +147,8 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         "",
         "## The three solref mappings",
         "",
-        "How MuJoCo's soft contact is set from k and c (PHYSICS.md). Only the scene's own mapping is judged.",
+        "How MuJoCo's soft contact is set from k and c (mujoco_models/solref.py). None is judged with every "
+        "effect on: their differences are the subject of the comparison, not a defect.",
         "",
         "| mapping | max position difference | RMS | max angle difference | MuJoCo energy drift | verdict |",
         "|---|---|---|---|---|---|",
@@ -160,25 +161,35 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         lines.append(f"| {mapping}{' (scene)' if mapping == scene.mujoco.solref else ''} "
                      f"| {_fmt(row['position_error_max'], ' m')} | {_fmt(row['position_error_rms'], ' m')} "
                      f"| {_fmt(row['angle_error_max'], ' rad')} | {_fmt(row['energy_drift_mujoco'], ' J')} | {verdict} |")
-    lines += ["", "## Why the two differ", ""]
-    for name, value in tol.terms.items():
-        lines.append(f"- **{name}** (up to {_fmt(value, ' m')}): {TERM_CAUSES[name]}")
+    lines += [""] + attribution_section(result.attribution)
+    lines += ["Every way the twin is built differently:", ""]
     for note in twin.meta.get("approximations", []):
         lines.append(f"- {note}")
-    lines += ["", f"Tolerance: {tol.reason}.", ""]
-    ab = result.ablation
-    if ab:
-        lines += [
-            "### With friction off",
-            "",
-            f"The same scene run in both simulators with effects {', '.join(ab['effects'])}: the largest position "
-            f"difference is {_fmt(ab['position_error_max'], ' m')} (tolerance {_fmt(ab['tolerance_position'], ' m')}), "
-            f"the largest angle difference {_fmt(ab['angle_error_max'], ' rad')} "
-            f"(tolerance {_fmt(ab['tolerance_angle'], ' rad')}): **{'pass' if ab['pass'] else 'FAIL'}**. "
-            "What remains with friction on is the difference between the two friction laws.",
-            "",
-        ]
+    lines.append("")
     return "\n".join(lines)
+
+
+def attribution_section(ladder: list[dict]) -> list[str]:
+    """'Why the two differ': the attribution ladder as a table, then each cause in a sentence."""
+    lines = ["## Why the two differ", "",
+             "A ladder of runs from MuJoCo's native contact (every effect on) to custom_sim, each rung "
+             "removing one cause. *difference* is the rung's run against custom_sim; *share* what "
+             "removing its cause took off the difference of the rung before; *alone* the distance "
+             "between the rung's run and the one before (compare/verdict/attribution.py).", "",
+             "| rung: cause removed | difference (m, rad) | share (m, rad) | alone (m, rad) |",
+             "|---|---|---|---|"]
+    for r in ladder:
+        if not r["measured"]:
+            lines.append(f"| {r['name']} | {r['note']} | | |")
+            continue
+        share = "–" if r["share_position"] is None else f"{_fmt(r['share_position'])}, {_fmt(r['share_angle'])}"
+        alone = "–" if r["step_position"] is None else f"{_fmt(r['step_position'])}, {_fmt(r['step_angle'])}"
+        lines.append(f"| {r['name']} | {_fmt(r['position_error_max'])}, {_fmt(r['angle_error_max'])} "
+                     f"| {share} | {alone} |")
+    lines.append("")
+    lines += [f"- **{r['name']}**: {r['cause']}" for r in ladder]
+    lines.append("")
+    return lines
 
 
 def index_page(rows: list[dict], failures: list[tuple[str, str]]) -> str:
@@ -187,24 +198,38 @@ def index_page(rows: list[dict], failures: list[tuple[str, str]]) -> str:
         "",
         "One row per scenario. *pos. max* and *pos. RMS* are the distance between the two centres of mass "
         "(max and root-mean-square over the run), *angle max* the largest angle difference, *drift* the energy "
-        "E(end) - E(0) of each simulator, *time* the wall time of the stepping alone. A scenario passes when "
-        "both differences stay within its tolerance, derived from the physics the two models do not share "
-        "(see each page's *Why the two differ*).",
+        "E(end) - E(0) of each simulator, *time* the wall time of the stepping alone. These are the full "
+        "comparison with every effect on, shown with its attribution (each page's *Why the two differ*), not "
+        "judged. A scenario passes when every judged check passes; *contact* is MuJoCo's own contact with "
+        "friction off, held to the mapping's measured error and the motion's sensitivity to it.",
         "",
         "| scenario | body | integrator | dt (s) | pos. max (m) | pos. RMS (m) | angle max (rad) | tolerance (m) "
-        "| drift custom (J) | drift MuJoCo (J) | time custom (s) | time MuJoCo (s) | result |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| drift custom (J) | drift MuJoCo (J) | time custom (s) | time MuJoCo (s) | contact (m, rad) | result |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         lines.append(
             f"| [{r['name']}]({r['name']}/index.md) | {r['shape']} | {r['integrator']} | {r['dt']:g} "
             f"| {_fmt(r['position_error_max'])} | {_fmt(r['position_error_rms'])} | {_fmt(r['angle_error_max'])} "
             f"| {_fmt(r['tolerance']['position'])} | {_fmt(r['energy_drift_custom'])} | {_fmt(r['energy_drift_mujoco'])} "
-            f"| {_fmt(r['wall_time_custom'])} | {_fmt(r['wall_time_mujoco'])} | {'pass' if r['pass'] else '**FAIL**'} |")
+            f"| {_fmt(r['wall_time_custom'])} | {_fmt(r['wall_time_mujoco'])} | {_contact_cell(r)} "
+            f"| {'pass' if r['pass'] else '**FAIL**'} |")
     for name, why in failures:
-        lines.append(f"| {name} | | | | | | | | | | | | **diverged**: {why} |")
+        lines.append(f"| {name} | | | | | | | | | | | | | **diverged**: {why} |")
     lines.append("")
     return "\n".join(lines)
+
+
+def _contact_cell(row: dict) -> str:
+    """The contact check in the index: difference / tolerance, or 'not judged'."""
+    c = next((c for c in row.get("checks", []) if c["name"] == "contact"), None)
+    if c is None:
+        return "–"
+    if c["pass"] is None:
+        return "not judged"
+    angle = f", {_fmt(c['angle_error_max'])} / {_fmt(c['tolerance_angle'])}" if c["tolerance_angle"] is not None else ""
+    return (f"{_fmt(c['position_error_max'])} / {_fmt(c['tolerance_position'])}{angle}"
+            f"{'' if c['pass'] else ' **FAIL**'}")
 
 
 def write_index(out: Path, rows: list[dict], failures: list[tuple[str, str]]) -> Path:

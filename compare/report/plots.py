@@ -62,13 +62,13 @@ def error(scene: Scene, diffs: dict, tol, path: Path) -> str:
     t = diffs["t"]
     k = _every(len(t))
     ax1.semilogy(t[k], np.maximum(diffs["position"][k], 1e-12), color="tab:red", label="|p_MuJoCo - p_custom|")
-    if tol.checked:
+    if tol.checked and tol.position is not None:
         ax1.axhline(tol.position, color="k", ls=":", label=f"tolerance {tol.position:.2g} m")
     ax1.set_ylabel("position difference (m)")
     ax1.legend(loc="best")
     ax1.grid(alpha=0.3, which="both")
     ax2.semilogy(t[k], np.maximum(diffs["angle"][k], 1e-12), color="tab:purple", label="|theta_MuJoCo - theta_custom|")
-    if tol.checked:
+    if tol.checked and tol.angle is not None:
         ax2.axhline(tol.angle, color="k", ls=":", label=f"tolerance {tol.angle:.2g} rad")
     ax2.set_ylabel("angle difference (rad)")
     ax2.set_xlabel("time (s)")

@@ -8,6 +8,8 @@ from custom_sim import Scene, SimulationDiverged, Trajectory, simulate, stable_s
 from custom_sim.scene import SOLREF_MAPPINGS
 
 from . import events, metrics, tolerance
+from .attribution import attribute
+from .contact_check import check_contact
 
 
 @dataclass
@@ -20,7 +22,9 @@ class Result:
     tolerance: tolerance.Tolerance | None = None
     passed: bool = False
     error: str | None = None                          # divergence: why no report was written
-    ablation: dict | None = None                      # the same comparison with friction off
+    ablation: dict | None = None                      # check `contact` (friction off), kept under its old name
+    checks: list = field(default_factory=list)        # check rows (CHECKS.md)
+    attribution: list = field(default_factory=list)   # the full comparison, cause by cause
 
     @property
     def status(self) -> str:
@@ -60,24 +64,13 @@ def run_scenario(scene: Scene) -> Result:
             result.mujoco = twin
             result.metrics = row
             result.tolerance = tol
-    result.passed = tolerance.judge(result.tolerance, result.metrics)
-    if scene.has("friction") and result.tolerance.checked:
-        result.ablation = without_friction(scene)
-        result.passed = result.passed and result.ablation["pass"]
+    # the full comparison is shown with its attribution; check `contact` is judged
+    result.attribution = attribute(scene)
+    result.ablation = check_contact(scene)
+    result.checks.append(result.ablation)
+    result.passed = tolerance.judge(result.tolerance, result.metrics) and all(
+        c["pass"] is not False for c in result.checks)
     return result
-
-
-def without_friction(scene: Scene) -> dict:
-    """Both simulators again with friction (and rolling resistance) off: what the two models
-    share must then agree within the tolerance left when the friction terms are dropped."""
-    from mujoco_models import simulate_mujoco
-
-    bare = dataclasses.replace(scene, effects=tuple(e for e in scene.effects if "friction" not in e))
-    row = metrics.compare(simulate(bare), simulate_mujoco(bare))
-    tol = tolerance.derive(bare)
-    row.update(tolerance_position=tol.position, tolerance_angle=tol.angle, reason=tol.reason,
-               effects=list(bare.effects), **{"pass": tolerance.judge(tol, row)})
-    return row
 
 
 def metrics_json(result: Result) -> dict:
@@ -120,4 +113,6 @@ def metrics_json(result: Result) -> dict:
         "mujoco_dt": twin.dt,
         "mappings": result.by_mapping,
         "without_friction": result.ablation,
+        "checks": result.checks,
+        "attribution": result.attribution,
     }

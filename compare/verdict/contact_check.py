@@ -33,7 +33,7 @@ import numpy as np
 from custom_sim import Scene, SimulationDiverged, mass_properties
 from custom_sim.bodies import contact_points_world
 
-from .impedance import mapping_error
+from .impedance import NativeDiverged, native_run
 from .sensitivity import run_states, spread
 
 NAME = "contact"
@@ -86,26 +86,25 @@ def _on_grid(t_from: np.ndarray, states: np.ndarray, t: np.ndarray) -> np.ndarra
 def check_contact(scene: Scene, states_under_test: np.ndarray | None = None) -> dict:
     """The contact check's row (CHECKS.md). states_under_test: (steps + 1, 6) states of
     contact_scene(scene) at the scene's dt from the simulator under test; None: custom_sim."""
-    from mujoco_models import MujocoDiverged, simulate_mujoco
-
     bare = contact_scene(scene)
     if not bare.has("contact"):
         return _row(scene, reason="not judged: the scene has no contact, so there is no contact to isolate")
     try:
         under = run_states(bare, bare.integrator, bare.dt) if states_under_test is None \
             else np.asarray(states_under_test, dtype=float)
-        twin = simulate_mujoco(bare, solref="penalty")
-    except (SimulationDiverged, MujocoDiverged) as exc:
+        # 1. the mapping's force error, read from MuJoCo along the same run
+        native, twin, error = native_run(bare)
+    except (SimulationDiverged, NativeDiverged) as exc:
         return _row(scene, reason=f"not judged: with friction off the run diverged ({exc})")
     if under.ndim != 2 or under.shape[1] != 6 or not np.all(np.isfinite(under)):
         return _row(scene, reason="not judged: the states under test are not a finite (steps + 1, 6) array")
     t_under = np.arange(len(under)) * bare.dt
-    t = twin.t[twin.t <= t_under[-1] + 1e-12]
-    native = twin.states()[:len(t)]
+    t = np.arange(len(native)) * twin.dt
+    t = t[t <= t_under[-1] + 1e-12]
+    native = native[:len(t)]
     tested = _on_grid(t_under, under, t)
 
-    # 1. the mapping's force error, read from MuJoCo; 2. the motion's sensitivity to it
-    error = mapping_error(bare)
+    # 2. the motion's sensitivity to the force error
     same = MUJOCO_UPDATE[twin.integrator]
     try:
         centre, s_pos, s_ang, chosen = spread(bare, error.relative, same, twin.dt)

@@ -61,14 +61,33 @@ class MappingError:
                 "force_residual": self.force_check}
 
 
-def mapping_error(scene: Scene, integrator: str | None = None, dt: float | None = None) -> MappingError:
-    """Run the scene's penalty twin and read the force error e at its touching steps."""
+class NativeDiverged(RuntimeError):
+    """MuJoCo's native twin met a bad acceleration or left finite numbers."""
+
+
+def native_run(scene: Scene, integrator: str | None = None, dt: float | None = None):
+    """(states (steps + 1, 6), twin, MappingError): the scene's penalty twin run once with
+    MuJoCo's own loop, its states, and the force error e read at its touching steps.
+    Raises NativeDiverged."""
     twin, model, data, start, n = setup_rollout(scene, "penalty", integrator, dt)
     rows, _ = rollout.rollout(model, data, start, nstep=n)
     rows = np.vstack([start[None, :], rows[0]])
     nv = model.nv
     props = mass_properties(scene.body)
     states = states_from_q(props, rows[:, 1:1 + nv], rows[:, 1 + nv:1 + 2 * nv])
+    if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number or not np.all(np.isfinite(states)):
+        raise NativeDiverged(f"{scene.name}: MuJoCo ({twin.integrator}, dt = {twin.dt:g} s, penalty) met a "
+                             f"bad acceleration or left finite numbers")
+    return states, twin, _read_error(scene, model, data, rows, states, props)
+
+
+def mapping_error(scene: Scene, integrator: str | None = None, dt: float | None = None) -> MappingError:
+    """Run the scene's penalty twin and read the force error e at its touching steps."""
+    return native_run(scene, integrator, dt)[2]
+
+
+def _read_error(scene: Scene, model, data, rows: np.ndarray, states: np.ndarray, props) -> MappingError:
+    nv = model.nv
     _, py = contact_points_world(props, states[:, 0], states[:, 1], states[:, 2])
     touching = np.flatnonzero(np.any(py < 0.0, axis=1))
     if len(touching) > MAX_EVALUATIONS:
