@@ -95,8 +95,10 @@ def rungs(scene: Scene) -> list[tuple[str, callable]]:
     def ours_inside_mujoco(at):
         def run():
             from mujoco_models import simulate_dynamics
-            return mujoco_states(simulate_dynamics(scene, callback_integrator, mj_dt, native_normal=True,
-                                                   friction_at=at, solref="penalty"))
+            # the friction's load Fn is the scene's law at the site's depth (MuJoCo solves its own
+            # normal force after the passive forces): the linear law, which MuJoCo's normal follows
+            return mujoco_states(simulate_dynamics(_linear(scene), callback_integrator, mj_dt,
+                                                   native_normal=True, friction_at=at, solref="penalty"))
         return run
 
     out = [("native", native)]

@@ -107,7 +107,7 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None) -> 
     # 2. the motion's sensitivity to the force error
     same = MUJOCO_UPDATE[twin.integrator]
     try:
-        centre, s_pos, s_ang, chosen = spread(bare, error.relative, same, twin.dt)
+        centre, s_pos, s_ang, chosen = spread(bare, error.relative, same, twin.dt, error.torque_relative)
         # 3. the integrator and step, when the one under test is not MuJoCo's
         if (same, twin.dt) != (bare.integrator, bare.dt):
             own = _on_grid(t_under, run_states(bare, bare.integrator, bare.dt), t)
@@ -159,7 +159,8 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None) -> 
         f"up to the divergence horizon t = {horizon:.4g} s of {t[-1]:.4g} s (beyond it the motion's "
         f"sensitivity to the mapping's error exceeds a tenth of the motion)")
     reason = (f"{SENSITIVITY_MARGIN:g} x the spread of {len(chosen)} custom_sim runs whose contact force or "
-              f"torque is off by up to the penalty mapping's measured error {error.relative:.2g} (MuJoCo's "
+              f"torque is off by up to the penalty mapping's measured error ({error.relative:.2g} of the force, "
+              f"{error.torque_relative:.2g} of the torque; MuJoCo's "
               f"A / A_hat from {error.ratio_min:.3g} to {error.ratio_max:.3g})"
               + (f", plus the integrator difference ({bare.integrator}, dt {bare.dt:g} s against MuJoCo's "
                  f"{twin.integrator}, dt {twin.dt:g} s)" if extra["integrator_position_max"] > 0 else "")

@@ -35,6 +35,9 @@ MAX_EVALUATIONS = 4000   # touching steps read back from MuJoCo (evenly spread):
 # of the run's largest load): below it the absolute parts of e (d a0 / A_hat, k r_s) are a
 # large share of a tiny force that barely moves the body.
 LOAD_SHARE = 0.5
+# The torque's relative error counts at steps whose contact torque is at least this share of
+# the run's largest: near a balance (torque -> 0) the absolute parts dominate a vanishing torque.
+TORQUE_SHARE = 0.1
 
 
 @dataclass(frozen=True)
@@ -42,6 +45,10 @@ class MappingError:
     """What the penalty rows did over the run.
 
     relative          max over touching steps of sum |e| / sum f (-): the mapping's force error
+    torque_relative   max over touching steps of |torque of e| / |contact torque| (-): two
+                      corners touching at once couple through A's off-diagonal terms, so the
+                      torque's error (d (sum r_x^2 / (I A_hat) - 1) on two corners) can exceed
+                      the force's
     ratio_min/max     range of A_ii / A_hat over the touching rows (-)
     a_hat             MuJoCo's A_hat (1/kg)
     steps             touching steps read back
@@ -49,6 +56,7 @@ class MappingError:
     """
 
     relative: float
+    torque_relative: float
     ratio_min: float
     ratio_max: float
     a_hat: float
@@ -56,7 +64,8 @@ class MappingError:
     force_check: float
 
     def as_dict(self) -> dict:
-        return {"relative_force_error": self.relative, "A_over_A_hat_min": self.ratio_min,
+        return {"relative_force_error": self.relative, "relative_torque_error": self.torque_relative,
+                "A_over_A_hat_min": self.ratio_min,
                 "A_over_A_hat_max": self.ratio_max, "A_hat": self.a_hat, "steps_read": self.steps,
                 "force_residual": self.force_check}
 
@@ -118,12 +127,18 @@ def _read_error(scene: Scene, model, data, rows: np.ndarray, states: np.ndarray,
         # against our law on our depth: MuJoCo's depth is ours + the contact sphere's radius
         # (mujoco_models/geometry.py) for a box or compound body, so its spring adds k r_s
         offset = k * CONTACT_SPHERE_RADIUS if props.points_rotate else 0.0
-        loads.append((float(f.sum()), float(np.abs(offset - e[on]).sum())))
+        wrong = np.where(on, offset - e, 0.0)
+        # generalised: the torque of the rows (J's hinge column) and of their error
+        torque = float(J[:, 2] @ f) if nv == 3 else 0.0
+        torque_wrong = float(J[:, 2] @ wrong) if nv == 3 else 0.0
+        loads.append((float(f.sum()), float(np.abs(wrong).sum()), abs(torque), abs(torque_wrong)))
     if not ratios:
-        return MappingError(0.0, 1.0, 1.0, a_hat, 0, 0.0)
-    load, wrong = np.array(loads).T
+        return MappingError(0.0, 0.0, 1.0, 1.0, a_hat, 0, 0.0)
+    load, wrong, torque, torque_wrong = np.array(loads).T
     floor = LOAD_SHARE * (weight if weight > 0.0 else load.max())
     counted = (load >= floor) & (load > 0.0)
     relative = float(np.max(wrong[counted] / load[counted])) if np.any(counted) else 0.0
-    return MappingError(relative, float(min(ratios)), float(max(ratios)), a_hat, len(touching),
+    turning = (torque >= TORQUE_SHARE * torque.max()) & (torque > 0.0)
+    torque_relative = float(np.max(torque_wrong[turning] / torque[turning])) if np.any(turning) else 0.0
+    return MappingError(relative, torque_relative, float(min(ratios)), float(max(ratios)), a_hat, len(touching),
                         residual / fmax if fmax > 0 else 0.0)

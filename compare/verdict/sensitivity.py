@@ -5,11 +5,12 @@ A relative force error eps (impedance.py) enters the motion in two ways, and eac
 ensemble members:
 
     force      k and c scaled by 1 + s eps: every contact force off by the share s eps
-    torque     the inverse inertia scaled by 1 + s eps: the contact torque off by s eps while
+    torque     the inverse inertia scaled by 1 + s eps_t: the contact torque off by s eps_t while
                the force is not. Two corners touching at once couple through the body
                (A's off-diagonal terms): MuJoCo's error then shifts load between them, which
                turns the body without changing the total force. (Gravity gives every body the
                same acceleration whatever its inertia, so only the contact is perturbed.)
+               eps_t is the torque's own measured error (impedance.py).
 
 with s in FORCE_SHARES (and +-1 for the torque members, bodies that turn only). The spread is,
 at each time, the largest distance of a member from the unperturbed run. custom_sim's runs
@@ -57,21 +58,23 @@ def run_states(scene: Scene, integrator: str, dt: float, force_scale: float = 1.
     return out
 
 
-def members(scene: Scene, eps: float) -> list[tuple[float, float]]:
-    """(force_scale, torque_scale) of each ensemble member for a relative error eps."""
+def members(scene: Scene, eps: float, eps_torque: float | None = None) -> list[tuple[float, float]]:
+    """(force_scale, torque_scale) of each ensemble member for relative errors eps of the force
+    and eps_torque of the torque (default eps)."""
+    eps_torque = eps if eps_torque is None else eps_torque
     out = [(1.0 + s * eps, 1.0) for s in FORCE_SHARES]
     if mass_properties(scene.body).rotates:
-        out += [(1.0, 1.0 + s * eps) for s in TORQUE_SHARES]
+        out += [(1.0, 1.0 + s * eps_torque) for s in TORQUE_SHARES]
     return out
 
 
-def spread(scene: Scene, eps: float, integrator: str, dt: float):
+def spread(scene: Scene, eps: float, integrator: str, dt: float, eps_torque: float | None = None):
     """(centre states, position spread (steps + 1,) m, angle spread rad, members): the
     unperturbed run and, at each time, the largest distance of a member from it."""
     centre = run_states(scene, integrator, dt)
     pos = np.zeros(len(centre))
     ang = np.zeros(len(centre))
-    chosen = members(scene, eps)
+    chosen = members(scene, eps, eps_torque)
     for force, torque in chosen:
         other = run_states(scene, integrator, dt, force, torque)
         pos = np.maximum(pos, np.hypot(other[:, 0] - centre[:, 0], other[:, 1] - centre[:, 1]))
