@@ -77,8 +77,9 @@ def _on_grid(states: np.ndarray, dt_from: float, dt_to: float, steps: int) -> np
     return np.column_stack([np.interp(t, t_from, states[:, j]) for j in range(6)])
 
 
-def rungs(scene: Scene) -> list[tuple[str, callable]]:
-    """(name, run) of each rung; run() returns states at the scene's dt (steps + 1, 6)."""
+def rungs(scene: Scene, native_run=None) -> list[tuple[str, callable]]:
+    """(name, run) of each rung; run() returns states at the scene's dt (steps + 1, 6).
+    native_run: the native twin's Trajectory (penalty mapping) when already run."""
     from mujoco_models import simulate_mujoco
 
     mj_integrator = scene.mujoco.integrator
@@ -90,7 +91,7 @@ def rungs(scene: Scene) -> list[tuple[str, callable]]:
         return _on_grid(traj.states(), traj.dt, scene.dt, scene.steps)
 
     def native():
-        return mujoco_states(simulate_mujoco(scene, solref="penalty"))
+        return mujoco_states(native_run or simulate_mujoco(scene, solref="penalty"))
 
     def ours_inside_mujoco(at):
         def run():
@@ -115,16 +116,17 @@ def rungs(scene: Scene) -> list[tuple[str, callable]]:
     return out
 
 
-def attribute(scene: Scene) -> list[dict]:
+def attribute(scene: Scene, native=None) -> list[dict]:
     """The ladder (module docstring): one dict per rung with name, cause, position_error_max (m),
     angle_error_max (rad) against custom_sim, share_position / share_angle (the fall from the rung
     before, m / rad), step_position / step_angle (distance to the rung before), measured (bool),
-    and note (why a rung could not be run)."""
+    and note (why a rung could not be run). native: the native twin's Trajectory with the
+    penalty mapping, if the caller has run it."""
     from mujoco_models import MujocoDiverged
 
     reference = run_states(scene, scene.integrator, scene.dt)
     out, before = [], None
-    for name, run in rungs(scene):
+    for name, run in rungs(scene, native):
         row = {"name": name, "cause": CAUSES[name], "measured": False, "note": "",
                "position_error_max": None, "angle_error_max": None, "share_position": None,
                "share_angle": None, "step_position": None, "step_angle": None}

@@ -65,7 +65,8 @@ def run_scenario(scene: Scene) -> Result:
             result.metrics = row
             result.tolerance = tol
     # the full comparison is shown with its attribution; check `contact` is judged
-    result.attribution = attribute(scene)
+    penalty = result.mujoco if scene.mujoco.solref == "penalty" else None
+    result.attribution = attribute(scene, penalty)
     result.ablation = check_contact(scene)
     result.checks.append(result.ablation)
     result.passed = tolerance.judge(result.tolerance, result.metrics) and all(
