@@ -29,9 +29,13 @@ omega = -(Jr qvel)_y). Switches, for the ladder that takes MuJoCo's native conta
 Reading MjData from C: the callback gets raw pointers only. Each run registers, for its
 mjData, the addresses of the arrays the callback reads (qvel, site_xpos) and writes
 (qfrc_passive), from the bindings' numpy views of them (fixed for the life of an MjData), with
-the law's parameters and scratch space, in a registry at a fixed address. The callback finds
-its slot by the mjData pointer (MjData._address); a data that is not registered (another model
-run in the same process meanwhile) gets no force at all.
+the law's parameters and scratch space, in a registry. The callback finds its slot by the
+mjData pointer (MjData._address); a data that is not registered (another model run in the same
+process meanwhile) gets no force at all. The compiled code names the registry and MuJoCo's
+mj_jac by symbol (REGISTRY_SYMBOL, MJ_JAC_SYMBOL), bound to this process's addresses with
+llvmlite's add_symbol before it loads, so numba can cache it on disk: a process loads it in
+a fraction of a second instead of compiling for seconds (compile_cache.py keeps the cache in
+step with the sources).
 
 Callbacks are global to the process: `installed()` sets ours and gives back whatever was set
 before when the last run leaves. A worker process installs it itself when it runs a twin (a
@@ -45,11 +49,15 @@ import os
 import threading
 from contextlib import contextmanager
 
+import llvmlite.binding
 import mujoco
 import numpy as np
+from llvmlite import ir
 from numba import carray, cfunc, njit, types
+from numba.core import cgutils
 from numba.extending import intrinsic
 
+from .compile_cache import clear_if_sources_changed
 from .contact_law import DAMPING_LAWS, friction_force, normal_force, rolling_torque
 
 # parameters of one run (float64), by index
@@ -72,9 +80,36 @@ def _mujoco_library() -> ctypes.CDLL:
     raise ImportError(f"no MuJoCo shared library next to {mujoco.__file__}")
 
 
-_mj_jac = _mujoco_library().mj_jac
-_mj_jac.argtypes = [ctypes.c_void_p] * 5 + [ctypes.c_int]
-_mj_jac.restype = None
+REGISTRY_SYMBOL = "mujoco_models_passive_registry"
+MJ_JAC_SYMBOL = "mujoco_models_mj_jac"
+
+
+@intrinsic
+def _mj_jac(typingctx, m, d, jacp, jacr, point, body):
+    """mj_jac(m, d, jacp, jacr, point, body), MuJoCo's C function, called by symbol; the
+    arrays by their int64 addresses."""
+    def codegen(context, builder, signature, args):
+        vp = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.VoidType(), [vp] * 5 + [ir.IntType(32)])
+        fn = cgutils.get_or_insert_function(builder.module, fnty, MJ_JAC_SYMBOL)
+        mm, dd, jp, jr, pt, b = args
+        builder.call(fn, [mm, dd, builder.inttoptr(jp, vp), builder.inttoptr(jr, vp),
+                          builder.inttoptr(pt, vp), builder.trunc(b, ir.IntType(32))])
+        return context.get_dummy_value()
+    return types.void(types.voidptr, types.voidptr, types.int64, types.int64, types.int64, types.int64), codegen
+
+
+@intrinsic
+def _registry_address(typingctx):
+    """The registry's address, by symbol."""
+    def codegen(context, builder, signature, args):
+        try:
+            gv = builder.module.get_global(REGISTRY_SYMBOL)
+        except KeyError:
+            gv = ir.GlobalVariable(builder.module, ir.IntType(64), name=REGISTRY_SYMBOL)
+            gv.linkage = "external"
+        return builder.ptrtoint(gv, ir.IntType(64))
+    return types.int64(), codegen
 
 
 @intrinsic
@@ -94,14 +129,6 @@ def _i64(typingctx, address):
 
 
 @intrinsic
-def _void(typingctx, address):
-    """An int64 address as a void pointer (for C calls)."""
-    def codegen(context, builder, signature, args):
-        return builder.inttoptr(args[0], context.get_value_type(types.voidptr))
-    return types.voidptr(types.int64), codegen
-
-
-@intrinsic
 def _address(typingctx, pointer):
     """A void pointer's address as an int64."""
     def codegen(context, builder, signature, args):
@@ -109,19 +136,18 @@ def _address(typingctx, pointer):
     return types.int64(types.voidptr), codegen
 
 
-@njit
+@njit(cache=True)
 def _jacobian(m, d, scratch_address, nv, body, x, y, z):
     """mj_jac at the world point (x, y, z) into the scratch: Jp = scratch[0:3nv],
     Jr = scratch[3nv:6nv], the point at scratch[6nv:6nv+3]."""
     scratch = carray(_f64(scratch_address), (6 * nv + 3,))
     point = 6 * nv
     scratch[point], scratch[point + 1], scratch[point + 2] = x, y, z
-    _mj_jac(m, d, _void(scratch_address), _void(scratch_address + 8 * 3 * nv),
-            _void(scratch_address + 8 * point), body)
+    _mj_jac(m, d, scratch_address, scratch_address + 8 * 3 * nv, scratch_address + 8 * point, body)
     return scratch
 
 
-@njit
+@njit(cache=True)
 def apply_contact_law(m, d, slot):
     """Add the contact law's generalised forces of every touching site to qfrc_passive
     (module docstring); slot: this data's registry row."""
@@ -132,8 +158,8 @@ def apply_contact_law(m, d, slot):
     qvel = carray(_f64(slot[R_QVEL]), (nv,))
     qfrc = carray(_f64(slot[R_QFRC]), (nv,))
     xpos = carray(_f64(slot[R_SITE_XPOS]), (nsite, 3))
-    body = int(p[P_BODY])
-    law = int(p[P_LAW])
+    body = np.int64(p[P_BODY])
+    law = np.int64(p[P_LAW])
     for i in range(nsite):
         cx, cy, cz = xpos[i, 0], xpos[i, 1], xpos[i, 2] - p[P_BELOW]
         depth = -cz
@@ -166,11 +192,12 @@ def apply_contact_law(m, d, slot):
 
 
 _REGISTRY = np.zeros((SLOTS, N_FIELDS), dtype=np.int64)
-_REGISTRY_ADDRESS = _REGISTRY.ctypes.data   # frozen into the callback when it compiles
+llvmlite.binding.add_symbol(REGISTRY_SYMBOL, _REGISTRY.ctypes.data)
+llvmlite.binding.add_symbol(MJ_JAC_SYMBOL, ctypes.cast(_mujoco_library().mj_jac, ctypes.c_void_p).value)
 
 
 def _passive(m, d):
-    registry = carray(_i64(_REGISTRY_ADDRESS), (SLOTS, N_FIELDS))
+    registry = carray(_i64(_registry_address()), (SLOTS, N_FIELDS))
     key = _address(d)
     for s in range(SLOTS):
         if registry[s, R_DATA] == key:
@@ -187,11 +214,12 @@ _keep: dict[int, tuple] = {}   # slot -> the arrays its addresses point into
 
 
 def callback():
-    """The compiled callback (compiled once per process: it holds the registry's address)."""
+    """The compiled callback (loaded from numba's cache, or compiled, on first use)."""
     global _compiled
     with _lock:
         if _compiled is None:
-            _compiled = cfunc(types.void(types.voidptr, types.voidptr))(_passive)
+            clear_if_sources_changed()
+            _compiled = cfunc(types.void(types.voidptr, types.voidptr), cache=True)(_passive)
         return _compiled
 
 
