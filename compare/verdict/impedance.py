@@ -22,7 +22,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from custom_sim import Scene, mass_properties
+from custom_sim import Scene
 from custom_sim.bodies import contact_points_world
 
 from mujoco_models.frames import states_from_q
@@ -82,7 +82,7 @@ def native_run(scene: Scene, integrator: str | None = None, dt: float | None = N
     rows, _ = rollout.rollout(model, data, start, nstep=n)
     rows = np.vstack([start[None, :], rows[0]])
     nv = model.nv
-    props = mass_properties(scene.body)
+    props = twin.props          # the twin's own rigid body (mujoco_models/rigid_body.py)
     states = states_from_q(props, rows[:, 1:1 + nv], rows[:, 1 + nv:1 + 2 * nv])
     if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number or not np.all(np.isfinite(states)):
         raise NativeDiverged(f"{scene.name}: MuJoCo ({twin.integrator}, dt = {twin.dt:g} s, penalty) met a "
