@@ -62,3 +62,17 @@ def test_stiff_contact_difference_is_the_friction_law_at_impact():
 def test_a_scene_without_friction_has_no_friction_rungs():
     by_name, rows = ladder("elastic_bounce", 1.0)
     assert [r["name"] for r in rows] == ["native", "mapping"]
+
+
+def test_attribute_command(capsys, tmp_path):
+    from compare.cli import main
+
+    out = tmp_path / "rows.json"
+    assert main(["attribute", "elastic_bounce", "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "## Check contact" in text and "| elastic_bounce |" in text and "pass" in text
+    import json
+    rows = json.loads(out.read_text())
+    assert rows[0]["contact"]["pass"] is True and rows[0]["attribution"][0]["name"] == "native"
+    assert main(["attribute", "no_such_scene"]) == 2
+    assert "unknown scenario" in capsys.readouterr().err
