@@ -108,3 +108,14 @@ def test_without_contact_it_is_not_judged():
     row = check_contact(scene)
     assert row["pass"] is None and row["reason"].startswith("not judged")
     assert row["tolerance_position"] is None
+
+
+def test_an_integrator_mujoco_lacks_adds_its_measured_difference():
+    """Explicit Euler has no MuJoCo counterpart: the tolerance adds custom_sim's measured
+    difference between it and MuJoCo's update, and a wrong inertia still fails."""
+    scene = dataclasses.replace(short("t_shape_drop", 0.8), integrator="explicit_euler")
+    right = check_contact(scene)
+    assert right["pass"] is True and right["integrator_position_max"] > 0.0, right["reason"]
+    assert "explicit_euler" in right["reason"]
+    wrong = check_contact(scene, mistaken(contact_scene(scene), inertia=1.1))
+    assert wrong["pass"] is False, wrong
