@@ -119,3 +119,12 @@ def test_an_integrator_mujoco_lacks_adds_its_measured_difference():
     assert "explicit_euler" in right["reason"]
     wrong = check_contact(scene, mistaken(contact_scene(scene), inertia=1.1))
     assert wrong["pass"] is False, wrong
+
+
+def test_states_that_blow_up_fail_with_the_step():
+    scene = short("point_drop", 0.3)
+    states = mistaken(contact_scene(scene))
+    states[500:] = np.nan
+    row = check_contact(scene, states)
+    assert row["pass"] is False and "step 500" in row["reason"]
+    assert row["first_exceeding_time"] == pytest.approx(0.05)

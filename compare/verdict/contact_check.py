@@ -94,8 +94,13 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None) -> 
         native, twin, error = native_run(bare)
     except (SimulationDiverged, NativeDiverged) as exc:
         return _row(scene, reason=f"not judged: with friction off the run diverged ({exc})")
-    if under.ndim != 2 or under.shape[1] != 6 or not np.all(np.isfinite(under)):
-        return _row(scene, reason="not judged: the states under test are not a finite (steps + 1, 6) array")
+    if under.ndim != 2 or under.shape[1] != 6 or len(under) < 2:
+        return _row(scene, reason=f"not judged: the states under test have shape {under.shape}, "
+                                  f"expected (steps + 1, 6)")
+    if not np.all(np.isfinite(under)):
+        step = int(np.flatnonzero(~np.all(np.isfinite(under), axis=1))[0])
+        return _row(scene, **{"pass": False}, first_exceeding_time=step * bare.dt,
+                    reason=f"the states under test leave finite numbers at step {step} (t = {step * bare.dt:.6g} s)")
     t_under = np.arange(len(under)) * bare.dt
     t = np.arange(len(native)) * twin.dt
     t = t[t <= t_under[-1] + 1e-12]

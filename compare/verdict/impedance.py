@@ -103,7 +103,8 @@ def _read_error(scene: Scene, model, data, rows: np.ndarray, states: np.ndarray,
         touching = touching[np.linspace(0, len(touching) - 1, MAX_EVALUATIONS).astype(int)]
     k, c, d = scene.contact.k, scene.contact.c, PENALTY_IMPEDANCE
     weight = props.mass * scene.g if scene.has("gravity") else 0.0
-    residual, fmax, ratios, loads, a_hat = 0.0, 0.0, [], [], float("nan")
+    residual, fmax, ratios, loads = 0.0, 0.0, [], []
+    a_hat = float(model.body_invweight0[1, 0])   # MuJoCo's A_hat, until a row reads it
     for i in touching:
         mujoco.mj_setState(model, data, rows[i], FULL_STATE)
         mujoco.mj_forward(model, data)
