@@ -25,6 +25,7 @@ COMMANDS = {
     "play": "compare.commands.play",
     "calibrate": "compare.commands.calibrate",
     "solref": "compare.commands.solref",
+    "attribute": "compare.commands.attribute",
 }
 
 EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2

@@ -1,15 +1,34 @@
-"""MuJoCo twins of the scenes: MJCF generated with MjSpec from the same scene file that drives
-custom_sim, run with MuJoCo's own loop, returned as the same Trajectory type.
+"""MuJoCo twins of the scenes, built with MjSpec from the scene file alone and run by MuJoCo,
+returned as the same Trajectory type as custom_sim.simulate. Nothing here is derived from
+custom_sim: only its scene model (custom_sim.scene) and the Trajectory type are imported.
 
-    build_spec / build_model / to_mjcf   spec.py      the model (geometry.py, inertial.py, effects.py)
-    solref_for, contact_parameters       solref.py    penalty | physical | seed (friction.py)
-    simulate_mujoco                      run.py       rollout, energy, meta["approximations"]
+Two twins of one body (mass, COM, inertia and contact points from rigid_body.py, written into
+an explicit <inertial>; contact sites at the contact points; energy sensors):
+
+    native     MuJoCo's own contact: explicit pairs with condim from the scene's effects and one
+               of three solref mappings (penalty | physical | seed)
+               simulate_mujoco(scene, solref=None, integrator=None, dt=None)          run.py
+    dynamics   no contact pairs: the seed's penalty law, written again (contact_law.py), applied
+               by a compiled passive-force callback (passive.py) at the sites, through MuJoCo's
+               site positions and Jacobians; MuJoCo's Euler or RK4 integrates
+               simulate_dynamics(scene, integrator="Euler", dt=None, *,
+                                 native_normal=False, friction_at="corner")        dynamics.py
+
+    build_twin / build_spec / build_model / to_mjcf   spec.py (geometry.py, inertial.py, sites.py,
+                                                      sensors.py, effects.py)
+    solref_for, contact_parameters                    solref.py (friction.py)
+    energy from MuJoCo's sensors, blow-up guard       energy.py, guard.py
+    python -m mujoco_models.mapping_table             the native twin's mappings against custom_sim
+    python -m mujoco_models.dynamics_speed            ns per step: native against dynamics twin
 """
+from .dynamics import simulate_dynamics
+from .rigid_body import RigidBody, rigid_body
 from .run import MujocoDiverged, simulate_mujoco
 from .solref import MAPPINGS, ContactParameters, contact_parameters, solref_for
 from .spec import Twin, build_model, build_spec, build_twin, to_mjcf
 
 __all__ = [
-    "MAPPINGS", "ContactParameters", "MujocoDiverged", "Twin", "build_model", "build_spec",
-    "build_twin", "contact_parameters", "simulate_mujoco", "solref_for", "to_mjcf",
+    "MAPPINGS", "ContactParameters", "MujocoDiverged", "RigidBody", "Twin", "build_model",
+    "build_spec", "build_twin", "contact_parameters", "rigid_body", "simulate_dynamics",
+    "simulate_mujoco", "solref_for", "to_mjcf",
 ]

@@ -26,7 +26,7 @@ def approximations(twin) -> list[str]:
         out += rolling_notes(scene, twin)
         if twin.cone == "pyramidal" and scene.has("friction"):
             out.append("cone: pyramidal, the friction cone cut into 2 (condim - 1) planes; the "
-                       "rolling-resistance deceleration is about 4 % off (PHYSICS.md)")
+                       "rolling-resistance deceleration is about 4 % off")
     out += stepping_notes(scene, twin.integrator, twin.dt)
     return out
 
@@ -47,9 +47,12 @@ def geometry_note(scene: Scene) -> str:
                 f"friction's lever arm is {depth / 2 / R * 100:.2g} % shorter")
     what = "box corner" if shape == "box" else "corner of every part"
     return (f"geometry: one sphere of radius {CONTACT_SPHERE_RADIUS:g} m at each {what} (a box geom "
-            f"gives two contacts per 2D corner, one at each face in y): one contact per corner as ours; "
-            f"it touches {CONTACT_SPHERE_RADIUS:g} m before ours and its contact point is half that off "
-            f"the corner")
+            f"gives two contacts per 2D corner, one at each face in y): one contact per corner as ours, "
+            f"touching {CONTACT_SPHERE_RADIUS:g} m before ours. contact point: MuJoCo puts it mid-way "
+            f"through the penetration, d/2 above our corner (d reaches about a centimetre at an impact), and "
+            f"applies the friction force and measures the slip there: the friction's lever arm about the "
+            f"centre of mass differs from ours by d/2, which changes the spin each landing leaves. The "
+            f"normal force is the same wherever along the normal it acts")
 
 
 def damping_note(scene: Scene) -> list[str]:

@@ -14,15 +14,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from custom_sim.bodies import MassProperties
+from .rigid_body import RigidBody
 
 
-def joint_count(props: MassProperties) -> int:
+def joint_count(props: RigidBody) -> int:
     """nq = nv: 3 for a body that turns, 2 for the point mass."""
     return 3 if props.rotates else 2
 
 
-def qpos_qvel(props: MassProperties, state) -> tuple[np.ndarray, np.ndarray]:
+def qpos_qvel(props: RigidBody, state) -> tuple[np.ndarray, np.ndarray]:
     """MuJoCo's (qpos, qvel) for a 2D state [x, y, theta, vx, vy, omega]."""
     x, y, theta, vx, vy, omega = (float(s) for s in state)
     cx, cy = props.com
@@ -30,7 +30,7 @@ def qpos_qvel(props: MassProperties, state) -> tuple[np.ndarray, np.ndarray]:
     return (np.array([x - cx, y - cy, theta][:n]), np.array([vx, vy, omega][:n]))
 
 
-def states_from_q(props: MassProperties, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
+def states_from_q(props: RigidBody, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
     """(T, 6) 2D states from qpos and qvel of shape (T, nq)."""
     qpos, qvel = np.atleast_2d(qpos), np.atleast_2d(qvel)
     out = np.zeros((qpos.shape[0], 6))

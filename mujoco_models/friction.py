@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from custom_sim.bodies import MassProperties
+from .rigid_body import RigidBody
 from custom_sim.scene import Scene
 
 FRICTION_IMPRATIO = 1e4
@@ -59,7 +59,7 @@ def resting_contacts(scene: Scene) -> int:
     return 1 if scene.body.shape in ("point", "circle") else 2
 
 
-def tangential_inverse_inertia(scene: Scene, props: MassProperties) -> float:
+def tangential_inverse_inertia(scene: Scene, props: RigidBody) -> float:
     """1/m + r_y^2 / I (1/kg) at the lowest contact point of the body lying at theta = 0."""
     inv = 1.0 / props.mass
     if not props.rotates:
@@ -68,7 +68,7 @@ def tangential_inverse_inertia(scene: Scene, props: MassProperties) -> float:
     return inv + ry * ry / props.inertia
 
 
-def penalty_friction_rows(scene: Scene, props: MassProperties, a_hat: float,
+def penalty_friction_rows(scene: Scene, props: RigidBody, a_hat: float,
                           impedance: float) -> FrictionRows:
     """The friction rows of the penalty mapping (module docstring); a_hat 1/kg, impedance d."""
     impratio = FRICTION_IMPRATIO

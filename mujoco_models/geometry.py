@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from custom_sim.bodies import MassProperties
+from .rigid_body import RigidBody
 from custom_sim.scene import Body
 
 from .inertial import board_depth, point_draw_radius
@@ -54,7 +54,7 @@ def _to3(x: float, y: float) -> tuple[float, float, float]:
     return (float(x), 0.0, float(y))
 
 
-def contact_geoms(body: Body, props: MassProperties) -> list[GeomPlan]:
+def contact_geoms(body: Body, props: RigidBody) -> list[GeomPlan]:
     """The geoms that touch the ground, in the body (geometry) frame."""
     cx, cy = props.com
     if body.shape == "circle":
@@ -82,7 +82,7 @@ def visual_geoms(body: Body) -> list[GeomPlan]:
             for j, ((w, h), o) in enumerate(parts)]
 
 
-def describe(body: Body, props: MassProperties) -> str:
+def describe(body: Body, props: RigidBody) -> str:
     """One sentence a user reads: what collides and what is drawn."""
     n = len(props.points)
     r = f"{CONTACT_SPHERE_RADIUS:g} m"

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from custom_sim.bodies import MassProperties, mass_properties
+from .rigid_body import RigidBody, rigid_body
 from custom_sim.scene import Body
 
 POINT_DRAW_RADIUS = 0.02  # m: the ball drawn for a point mass with contact_height 0
@@ -53,9 +53,9 @@ def board_depth(w: float, h: float) -> float:
     return min(w, h)
 
 
-def derived_inertial(body: Body, props: MassProperties | None = None) -> Inertial:
+def derived_inertial(body: Body, props: RigidBody | None = None) -> Inertial:
     """The <inertial> of a scene body, by the formulas in this module's docstring."""
-    props = props or mass_properties(body)
+    props = props or rigid_body(body)
     m = props.mass
     if body.shape == "point":
         r = point_draw_radius(body)

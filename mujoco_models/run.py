@@ -3,8 +3,10 @@
 MuJoCo's own loop (mujoco.rollout) takes all the steps in C; the timed call comes after a
 short warm-up rollout. Each output row of rollout is MuJoCo's full physics state after a step,
 [time, qpos (nq), qvel (nv), ...] (fields in the order of their mjtState bits), which frames.py
-turns into our [x, y, theta, vx, vy, omega]. The energy is CONTRACT.md's formula on that
-state (custom_sim.energy: kinetic + m g y + sum of k d^2 / 2 over our contact points).
+turns into our [x, y, theta, vx, vy, omega]. The energy is CONTRACT.md's formula on MuJoCo's
+state, from MuJoCo's own sensors (energy.py: its kinetic and potential energy, and k d^2 / 2
+over its contact distances). A run is void when MuJoCo flags a bad acceleration or the
+twin's own guard (guard.py) finds the state blown up.
 """
 from __future__ import annotations
 
@@ -14,16 +16,16 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from custom_sim.energy import energy_parts
-from custom_sim.integrators import first_unhealthy
 from custom_sim.scene import Scene
-from custom_sim.simulate import blowup_guard
 from custom_sim.trajectory import Trajectory
 
 from .approximations import approximations
+from .energy import energy_parts, final_sensors
 from .frames import joint_count, states_from_q
 from .geometry import describe
-from .spec import build_twin
+from .guard import first_blowup
+from .sites import contact_below_site
+from .spec import Twin, build_twin
 
 STAGES = {"Euler": 1, "implicit": 1, "implicitfast": 1, "RK4": 4}  # force evaluations per mj_step
 WARMUP_STEPS = 200
@@ -32,15 +34,15 @@ FULL_STATE = mujoco.mjtState.mjSTATE_FULLPHYSICS
 
 class MujocoDiverged(RuntimeError):
     """The twin's state blew up: MuJoCo flagged a bad acceleration (and reset the state), or
-    the state left the range custom_sim's guard allows (non-finite, too far, too fast, or
-    more energy than the scene ever had). The run is void."""
+    the state left the range the twin's guard allows (guard.py: non-finite, too far, too fast,
+    or more energy than the scene ever had). The run is void."""
 
 
 def setup_rollout(scene: Scene, solref: str | None = None, integrator: str | None = None,
-                  dt: float | None = None):
+                  dt: float | None = None, pairs: str = "native"):
     """(twin, model, data, start state, steps): everything mujoco.rollout needs for the scene,
     with the data at the scene's initial state (keyframe 0) and steps = duration / dt."""
-    twin = build_twin(scene, solref, integrator=integrator, dt=dt)
+    twin = build_twin(scene, solref, integrator=integrator, dt=dt, pairs=pairs)
     model = twin.spec.compile()
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, 0)
@@ -49,26 +51,56 @@ def setup_rollout(scene: Scene, solref: str | None = None, integrator: str | Non
     return twin, model, data, start_state, max(1, int(round(scene.duration / twin.dt)))
 
 
+def timed_rollout(model, data, start_state: np.ndarray, n: int, before_timed=None):
+    """(rows (n + 1, nstate) full physics states from the start, sensor rows (n + 1, nsensordata)
+    of the same states, wall time s of the n steps). A warm-up rollout runs first;
+    before_timed() is called between it and the timed one."""
+    rollout.rollout(model, data, start_state, nstep=min(n, WARMUP_STEPS))
+    if before_timed is not None:
+        before_timed()
+    begin = time.perf_counter()
+    rows, sensors = rollout.rollout(model, data, start_state, nstep=n)
+    wall = time.perf_counter() - begin
+    rows = np.vstack([start_state[None, :], rows[0]])
+    return rows, sensors[0], wall
+
+
+def trajectory_from(twin: Twin, model, data, rows: np.ndarray, sensors: np.ndarray, wall: float,
+                    simulator: str, force_evals: int, meta: dict) -> Trajectory:
+    """The Trajectory of a twin's rollout (timed_rollout's rows and sensor rows), its energy
+    from MuJoCo's sensors, after the blow-up checks; raises MujocoDiverged."""
+    scene = twin.scene
+    sensors = np.vstack([sensors, final_sensors(model, data, rows[-1])])
+    nq = joint_count(twin.props)
+    states = states_from_q(twin.props, rows[:, 1:1 + nq], rows[:, 1 + nq:1 + 2 * nq])
+    what = f"{scene.name}: MuJoCo {simulator} ({twin.integrator}, dt = {twin.dt:g} s)"
+    if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:
+        raise MujocoDiverged(f"{what} met a bad acceleration and reset the state; try a smaller dt")
+    k = scene.contact.k if scene.has("contact") else 0.0
+    ke, pe, ce = energy_parts(twin.sensors, sensors, k, contact_below_site(scene.body))
+    g = -float(model.opt.gravity[2])
+    step = first_blowup(states, ke, pe, twin.props, g)
+    if step >= 0:
+        raise MujocoDiverged(f"{what} blew up at step {step} (t = {step * twin.dt:.6g} s): the state left "
+                             f"the healthy range; try a smaller dt")
+    n = len(states) - 1
+    meta = dict(meta, ns_per_step=1e9 * wall / n)
+    return Trajectory(
+        t=np.arange(n + 1) * twin.dt,
+        x=states[:, 0], y=states[:, 1], theta=states[:, 2],
+        vx=states[:, 3], vy=states[:, 4], omega=states[:, 5],
+        energy_kinetic=ke, energy_gravity=pe, energy_contact=ce,
+        simulator=simulator, integrator=twin.integrator, dt=twin.dt,
+        force_evals=force_evals, wall_time=wall, meta=meta,
+    )
+
+
 def simulate_mujoco(scene: Scene, solref: str | None = None, integrator: str | None = None,
                     dt: float | None = None) -> Trajectory:
     """Run the scene's twin for its duration. solref: penalty | physical | seed; integrator:
     Euler | RK4 | implicit | implicitfast; dt (s). Defaults: the scene's [mujoco] table."""
     twin, model, data, start_state, n = setup_rollout(scene, solref, integrator, dt)
-    rollout.rollout(model, data, start_state, nstep=min(n, WARMUP_STEPS))
-    begin = time.perf_counter()
-    rows, _ = rollout.rollout(model, data, start_state, nstep=n)
-    wall = time.perf_counter() - begin
-    nq = joint_count(twin.props)
-    rows = np.vstack([start_state[None, :], rows[0]])
-    states = states_from_q(twin.props, rows[:, 1:1 + nq], rows[:, 1 + nq:1 + 2 * nq])
-    what = f"{scene.name}: MuJoCo ({twin.integrator}, dt = {twin.dt:g} s, solref {twin.contact.mapping})"
-    if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:
-        raise MujocoDiverged(f"{what} met a bad acceleration and reset the state; try a smaller dt")
-    step = first_unhealthy(np.ascontiguousarray(states), blowup_guard(scene, twin.props, states[0], applied_input=False))
-    if step >= 0:
-        raise MujocoDiverged(f"{what} blew up at step {step} (t = {step * twin.dt:.6g} s): the state left "
-                             f"custom_sim's healthy range; try a smaller dt")
-    ke, pe, ce = energy_parts(scene, twin.props, states)
+    rows, sensors, wall = timed_rollout(model, data, start_state, n)
     params = twin.contact
     meta = {
         "solref_mapping": params.mapping,
@@ -87,13 +119,6 @@ def simulate_mujoco(scene: Scene, solref: str | None = None, integrator: str | N
         "geometry": describe(scene.body, twin.props),
         "inertia": list(twin.inertial.diaginertia),
         "approximations": approximations(twin),
-        "ns_per_step": 1e9 * wall / n,
     }
-    return Trajectory(
-        t=np.arange(n + 1) * twin.dt,
-        x=states[:, 0], y=states[:, 1], theta=states[:, 2],
-        vx=states[:, 3], vy=states[:, 4], omega=states[:, 5],
-        energy_kinetic=ke, energy_gravity=pe, energy_contact=ce,
-        simulator="mujoco", integrator=twin.integrator, dt=twin.dt,
-        force_evals=n * STAGES[twin.integrator], wall_time=wall, meta=meta,
-    )
+    return trajectory_from(twin, model, data, rows, sensors, wall, "mujoco",
+                           n * STAGES[twin.integrator], meta)

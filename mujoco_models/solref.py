@@ -33,7 +33,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from custom_sim.bodies import MassProperties
+from .rigid_body import RigidBody, rigid_body
 from custom_sim.scene import Scene
 
 from .effects import condim_for
@@ -72,10 +72,8 @@ def solref_for(scene: Scene, mapping: str | None = None, model_or_a_hat=None,
                dt: float | None = None) -> ContactParameters:
     """The contact parameters of `mapping` (default scene.mujoco.solref) for the scene, given
     the twin's compiled model or A_hat (1/kg); without either, A_hat is built and read."""
-    from custom_sim.bodies import mass_properties
-
     mapping = mapping or scene.mujoco.solref
-    props = mass_properties(scene.body)
+    props = rigid_body(scene.body)
     if model_or_a_hat is None:
         from .spec import build_model
         model_or_a_hat = build_model(scene, mapping)
@@ -99,7 +97,7 @@ def pyramid_scale(scene: Scene) -> float:
 
 
 def contact_parameters(scene: Scene, mapping: str, a_hat: float, dt: float,
-                       props: MassProperties) -> ContactParameters:
+                       props: RigidBody) -> ContactParameters:
     """solref/solimp of `mapping` for the scene's k and c (a_hat 1/kg, dt s for MuJoCo's refsafe)."""
     if mapping not in MAPPINGS:
         raise ValueError(f"unknown solref mapping {mapping!r} (expected one of: {', '.join(MAPPINGS)})")
@@ -134,7 +132,7 @@ def contact_parameters(scene: Scene, mapping: str, a_hat: float, dt: float,
                              notes=notes + _refsafe(solref, dt) + _default_friction(scene))
 
 
-def _penalty(scene: Scene, a_hat: float, props: MassProperties) -> ContactParameters:
+def _penalty(scene: Scene, a_hat: float, props: RigidBody) -> ContactParameters:
     k, c, d = scene.contact.k, scene.contact.c, PENALTY_IMPEDANCE
     scale = pyramid_scale(scene)
     solref = (-k * a_hat * scale, -c * a_hat * scale)

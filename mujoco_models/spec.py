@@ -8,20 +8,33 @@ No geom collides on its own (contype = conaffinity = 0 everywhere): every contac
 explicit <pair> of the ground with one contact geom, carrying condim, friction, solref, solimp
 and solreffriction, so nothing is left to MuJoCo's mixing rules. A scene without the contact
 effect gets no pair at all; effects.py says what the other effects become.
+
+    pairs="native"   the native twin: MuJoCo's own contact, condim from the scene's effects
+    pairs="normal"   MuJoCo's normal contact only (condim 1); friction comes from elsewhere
+    pairs="none"     no contact pair: the dynamics twin, whose contact forces are the seed's
+                     law applied by a passive-force callback (dynamics.py)
+
+Every twin carries a site at each contact point (sites.py) and sensors that MuJoCo fills
+during the run: its kinetic and potential energy (energy flag on), and per contact point
+either MuJoCo's contact distance (a contact sensor on the pair) or, without pairs, the site's
+world position. energy.py reads them.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import mujoco
 
-from custom_sim.bodies import MassProperties, mass_properties
+from .rigid_body import RigidBody, rigid_body
 from custom_sim.scene import Scene
 
 from .effects import condim_for, friction_for, gravity_vector, pair_friction
 from .frames import qpos_qvel
 from .geometry import CONTACT_GROUP, VISUAL_GROUP, GeomPlan, contact_geoms, visual_geoms
 from .inertial import Inertial, derived_inertial
+from .sensors import SensorLayout, add_sensors
+from .sites import add_contact_sites
 from .solref import ContactParameters, a_hat, contact_parameters
 
 INTEGRATORS = {
@@ -47,7 +60,7 @@ class Twin:
 
     spec: mujoco.MjSpec
     scene: Scene
-    props: MassProperties
+    props: RigidBody
     inertial: Inertial
     contact: ContactParameters
     condim: int
@@ -56,6 +69,8 @@ class Twin:
     cone: str
     dt: float
     n_pairs: int
+    pairs: str = "native"                  # native | normal | none (module docstring)
+    sensors: SensorLayout | None = None    # where energy.py finds MuJoCo's energies and depths
 
 
 def resolve_settings(scene: Scene, integrator: str | None = None, dt: float | None = None):
@@ -69,12 +84,18 @@ def resolve_settings(scene: Scene, integrator: str | None = None, dt: float | No
     return integrator, float(dt)
 
 
+PAIRS = ("native", "normal", "none")
+
+
 def build_twin(scene: Scene, solref: str | None = None, *, integrator: str | None = None,
-               dt: float | None = None) -> Twin:
-    """Build the scene's twin; solref: penalty | physical | seed (default scene.mujoco.solref)."""
+               dt: float | None = None, pairs: str = "native") -> Twin:
+    """Build the scene's twin; solref: penalty | physical | seed (default scene.mujoco.solref);
+    pairs: native | normal | none (module docstring)."""
+    if pairs not in PAIRS:
+        raise ValueError(f"unknown contact pairs {pairs!r} (expected one of: {', '.join(PAIRS)})")
     mapping = solref or scene.mujoco.solref
     integrator, dt = resolve_settings(scene, integrator, dt)
-    props = mass_properties(scene.body)
+    props = rigid_body(scene.body)
     inertial = derived_inertial(scene.body, props)
 
     spec = mujoco.MjSpec()
@@ -101,24 +122,31 @@ def build_twin(scene: Scene, solref: str | None = None, *, integrator: str | Non
         _add_geom(body, plan, CONTACT_GROUP, CONTACT_RGBA)
     for plan in visual_geoms(scene.body):
         _add_geom(body, plan, VISUAL_GROUP, SHAPE_RGBA)
+    sites = add_contact_sites(body, scene.body, props)
 
     # A_hat depends on the mass matrix only: compile once, then write the contact pairs.
     model = spec.compile()
-    params = contact_parameters(scene, mapping, a_hat(model, model.body(BODY).id), dt, props)
+    # a twin whose pairs carry the normal only gets the parameters of the frictionless scene
+    # (no friction rows, no pyramid scaling of the normal's solref)
+    paired_scene = scene if pairs == "native" else dataclasses.replace(
+        scene, effects=tuple(e for e in scene.effects if "friction" not in e))
+    params = contact_parameters(paired_scene, mapping, a_hat(model, model.body(BODY).id), dt, props)
     spec.option.impratio = params.impratio
-    n_pairs = 0
-    if scene.has("contact"):
+    condim = condim_for(scene) if pairs == "native" else 1
+    paired = []
+    if scene.has("contact") and pairs != "none":
         for plan in contacts:
             spec.add_pair(name=f"ground_{plan.name}", geomname1=GROUND, geomname2=plan.name,
-                          condim=condim_for(scene), friction=list(pair_friction(scene)),
+                          condim=condim, friction=list(pair_friction(scene)),
                           solref=list(params.solref), solimp=list(params.solimp),
                           solreffriction=list(params.solreffriction))
-            n_pairs += 1
+            paired.append(plan.name)
+    sensors = add_sensors(spec, GROUND, paired, sites if scene.has("contact") and not paired else [])
 
     qpos, qvel = qpos_qvel(props, _initial_state(scene))
     spec.add_key(name="initial", qpos=list(qpos), qvel=list(qvel))
-    return Twin(spec, scene, props, inertial, params, condim_for(scene), friction_for(scene),
-                integrator, scene.mujoco.cone, dt, n_pairs)
+    return Twin(spec, scene, props, inertial, params, condim, friction_for(scene),
+                integrator, scene.mujoco.cone, dt, len(paired), pairs, sensors)
 
 
 def build_spec(scene: Scene, solref: str | None = None, **settings) -> mujoco.MjSpec:

@@ -15,7 +15,7 @@ import pytest
 from compare.accuracy.benchmark import (custom_step_runner, linearity, mujoco_setup, mujoco_step_runner)
 from compare.cli import main
 from compare.scenarios import load
-from custom_sim import Stepper, mass_properties, simulate
+from custom_sim import Stepper, simulate
 
 pytest.importorskip("mujoco_models")
 
@@ -39,12 +39,13 @@ def test_mujoco_benchmark_loops_do_the_scene(name):
     from mujoco import rollout
     from mujoco_models import simulate_mujoco
     from mujoco_models.frames import states_from_q
+    from mujoco_models.rigid_body import rigid_body
 
     scene = dataclasses.replace(load(name), duration=0.5)
     traj = simulate_mujoco(scene)
     model, data, state = mujoco_setup(scene)
     n = traj.steps
-    props = mass_properties(scene.body)
+    props = rigid_body(scene.body)
     mujoco_step_runner(model, data, state, n, "mj_step")()
     after_mj_step = states_from_q(props, data.qpos, data.qvel)[0]
     assert np.allclose(after_mj_step, traj.states()[-1], rtol=0, atol=1e-12)

@@ -18,6 +18,7 @@ from custom_sim.forces import accelerations
 from custom_sim.model import build_model as build_ours
 from mujoco_models import build_spec
 from mujoco_models.frames import qpos_qvel
+from mujoco_models.rigid_body import rigid_body
 from mujoco_models.friction import FRICTION_IMPRATIO
 from mujoco_models.geometry import CONTACT_SPHERE_RADIUS
 from mujoco_models.solref import PENALTY_IMPEDANCE, a_hat
@@ -39,7 +40,7 @@ def forward(sc, state, spec=None):
     spec = spec or build_spec(sc, "penalty")
     model = spec.compile()
     data = mujoco.MjData(model)
-    data.qpos[:], data.qvel[:] = qpos_qvel(mass_properties(sc.body), state)
+    data.qpos[:], data.qvel[:] = qpos_qvel(rigid_body(sc.body), state)
     mujoco.mj_forward(model, data)
     return model, data
 

@@ -22,7 +22,8 @@ MJCF_DIGITS_REL = 5e-6
 
 
 @pytest.mark.parametrize("scene", BUILTINS, ids=IDS)
-def test_compiled_mass_com_and_inertia_are_the_derived_ones(scene):
+def test_compiled_mass_com_and_inertia_are_custom_sims(scene):
+    """Two codes, one answer: the twin's inertial (its own rigid_body.py) against custom_sim's."""
     props = mass_properties(scene.body)
     model = build_model(scene)
     b = model.body("body").id

@@ -8,9 +8,11 @@ import numpy as np
 import pytest
 
 from compare.scenarios import load, load_builtins
-from custom_sim import mass_properties, parse_scene
+from custom_sim import parse_scene
 from mujoco_models import MujocoDiverged, build_model, simulate_mujoco
 from mujoco_models.frames import states_from_q
+from mujoco_models.geometry import CONTACT_SPHERE_RADIUS
+from mujoco_models.rigid_body import rigid_body
 
 STAGES = {"Euler": 1, "implicit": 1, "implicitfast": 1, "RK4": 4}
 META_KEYS = {"solref_mapping", "solref", "solimp", "condim", "approximations", "geometry"}
@@ -65,7 +67,7 @@ def test_rollout_rows_are_the_states_of_a_plain_step_loop():
         mujoco.mj_step(model, data)
         qpos.append(data.qpos.copy())
         qvel.append(data.qvel.copy())
-    loop = states_from_q(mass_properties(scene.body), np.array(qpos), np.array(qvel))
+    loop = states_from_q(rigid_body(scene.body), np.array(qpos), np.array(qvel))
     assert np.min(tr.y) < 0.2, "it touched the ground"
     assert np.allclose(tr.states(), loop, rtol=0, atol=1e-12)
     # and the COM is MuJoCo's own xipos (mj_step leaves the kinematics of the step's start)
@@ -80,7 +82,8 @@ def test_same_input_same_trajectory_bit_for_bit():
 
 
 def test_energy_is_contract_formula_on_mujoco_state():
-    """kinetic + m g y + sum of k d^2 / 2 over our corners, computed here by hand."""
+    """kinetic + m g y + sum of k d^2 / 2 over the corners, computed here by hand; MuJoCo's
+    contact distance is the corner's depth plus the contact sphere's radius."""
     scene = short(load("box_drop"), 0.35)          # the corner lands near 0.25 s
     tr = simulate_mujoco(scene)
     m, k, (w, h) = scene.body.mass, scene.contact.k, scene.body.size
@@ -88,7 +91,7 @@ def test_energy_is_contract_formula_on_mujoco_state():
     touched = 0
     for i in range(0, tr.steps + 1, 97):
         x, y, th, vx, vy, om = tr.states()[i]
-        depth = [max(0.0, -(y + math.sin(th) * cx + math.cos(th) * cy))
+        depth = [max(0.0, CONTACT_SPHERE_RADIUS - (y + math.sin(th) * cx + math.cos(th) * cy))
                  for cx, cy in ((-w / 2, -h / 2), (w / 2, -h / 2), (w / 2, h / 2), (-w / 2, h / 2))]
         touched += any(depth)
         expected = 0.5 * m * (vx * vx + vy * vy) + 0.5 * inertia * om * om + m * 9.81 * y + sum(0.5 * k * d * d for d in depth)

@@ -17,23 +17,6 @@ from ..verdict import metrics
 from . import plots
 from ..verdict.comparison import Result, check_label, metrics_json
 
-TERM_CAUSES = {
-    "impedance": "MuJoCo's penalty row reproduces k d + c v up to a relative 1e-4 (its impedance d = 1e-4 times "
-                 "the gap between the contact's true inverse inertia and the constant A_hat it is scaled by).",
-    "switching": "each simulator starts and ends a contact on its own step grid, so a switch can lag by a step.",
-    "damping law": "the scene damps only while the body approaches the ground (the seed's compression law); "
-                   "MuJoCo damps both ways, clamped at zero, so its body rebounds lower and lands at other times.",
-    "friction": "MuJoCo's friction (penalty mapping) is viscous with tanh's slope at rest, capped at mu Fn; ours "
-                "is mu Fn tanh(alpha v): both brake at mu g while sliding fast, and part in the slow tail before "
-                "the body stops.",
-    "impact friction": "when a corner lands, its slip passes through zero; there ours grips within 1/alpha "
-                       "of zero slip and MuJoCo's viscous row within mu Fn / c_t, which is wider at impact forces, "
-                       "so the body leaves each landing with a slightly different spin and slide.",
-    "rolling": "MuJoCo's rolling resistance shares one friction cone with sliding: while the disk slides it is "
-               "about zero, ours is mu_roll Fn from the start, so ours rolls away a little slower.",
-}
-
-
 def _fmt(x, unit: str = "") -> str:
     if x is None:
         return "–"
@@ -104,15 +87,26 @@ def checks_table(result: Result) -> list[str]:
     return lines
 
 
-def attribution_table(result: Result) -> list[str]:
-    """Each named cause of the difference to MuJoCo's native contact, measured."""
-    if not result.attribution:
-        return []
-    lines = ["| run | what it removes | position difference to the simulator under test | angle difference | share |",
-             "|---|---|---|---|---|"]
-    for rung in result.attribution:
-        lines.append(f"| {rung['name']} | {rung['cause']} | {_fmt(rung.get('position_error_max'), ' m')} "
-                     f"| {_fmt(rung.get('angle_error_max'), ' rad')} | {_fmt(rung.get('share'), ' m')} |")
+def attribution_section(ladder: list[dict]) -> list[str]:
+    """'Why the two differ': the attribution ladder as a table, then each cause in a sentence."""
+    lines = ["## Why the two differ", "",
+             "A ladder of runs from MuJoCo's native contact (every effect on) to custom_sim, each rung "
+             "removing one cause. *difference* is the rung's run against custom_sim; *share* what "
+             "removing its cause took off the difference of the rung before; *alone* the distance "
+             "between the rung's run and the one before (see docs/differences-from-mujoco.md).", "",
+             "| rung: cause removed | difference (m, rad) | share (m, rad) | alone (m, rad) |",
+             "|---|---|---|---|"]
+    for r in ladder:
+        if not r["measured"]:
+            lines.append(f"| {r['name']} | {r['note']} | | |")
+            continue
+        share = "–" if r["share_position"] is None else f"{_fmt(r['share_position'])}, {_fmt(r['share_angle'])}"
+        alone = "–" if r["step_position"] is None else f"{_fmt(r['step_position'])}, {_fmt(r['step_angle'])}"
+        lines.append(f"| {r['name']} | {_fmt(r['position_error_max'])}, {_fmt(r['angle_error_max'])} "
+                     f"| {share} | {alone} |")
+    lines.append("")
+    lines += [f"- **{r['name']}**: {r['cause']}" for r in ladder]
+    lines.append("")
     return lines
 
 
@@ -199,10 +193,8 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         lines.append(f"| {mapping}{' (scene)' if mapping == scene.mujoco.solref else ''} "
                      f"| {_fmt(row['position_error_max'], ' m')} | {_fmt(row['position_error_rms'], ' m')} "
                      f"| {_fmt(row['angle_error_max'], ' rad')} | {_fmt(row['energy_drift_mujoco'], ' J')} |")
-    lines += ["", "## Why MuJoCo's own contact differs", "",
-              "A ladder of runs, each removing one named cause; every share is a measured difference.", ""]
-    lines += attribution_table(result)
-    lines.append("")
+    lines += [""] + attribution_section(result.attribution)
+    lines += ["Every way the twin is built differently:", ""]
     for note in twin.meta.get("approximations", []):
         lines.append(f"- {note}")
     lines.append("")

@@ -1,0 +1,98 @@
+"""The twin's own rigid body: mass, centre of mass, inertia and contact points from the scene file.
+
+Written here, from the scene's geometry alone, so that nothing the twin integrates comes from
+the simulator it checks (custom_sim computes the same quantities in its own code). Frames: the
+geometry frame is the scene's (compound parts at their offsets); `com` is the centre of mass in
+it; contact points are given relative to the COM, in the body's frame at angle 0.
+
+    point      mass m at the origin; one contact point (0, -h), h = contact_height; never turns
+    box        w x h, COM at its centre; contact points: its four corners
+    compound   parts j of mass m_j, size w_j x h_j, centre o_j:
+                   M = sum m_j,  com = sum m_j o_j / M
+                   I = sum m_j (w_j^2 + h_j^2) / 12 + m_j |o_j - com|^2   (parallel axes)
+               contact points: every corner of every part
+    circle     radius R, COM at the centre, I = m R^2 / 2; one contact point straight below the
+               centre, (0, -R) in the world frame whatever the angle (it does not turn)
+
+A test checks mass, COM and Iyy against MuJoCo's compiler, which derives them from geoms of the
+same sizes and masses (tests/test_mujoco_rigid_body.py).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from custom_sim.scene import Body
+
+
+@dataclass(frozen=True)
+class RigidBody:
+    """mass (kg), inertia about the COM for turns in the plane (kg m^2), COM in the geometry
+    frame (m), contact points relative to the COM (m, shape (n, 2)), and how they move:
+
+    rotates          the body turns (False for the point mass: it gets no hinge)
+    points_rotate    the contact points turn with the body (False for the circle and the point)
+    """
+
+    mass: float
+    inertia: float
+    com: tuple[float, float]
+    points: np.ndarray
+    rotates: bool
+    points_rotate: bool
+
+    @property
+    def lowest_com_height(self) -> float:
+        """The lowest the COM gets with every contact point on or above the ground (m, <= 0
+        means: the COM may reach the ground line when the farthest point is level with it)."""
+        return -float(np.max(np.hypot(self.points[:, 0], self.points[:, 1])))
+
+
+def _corners(w: float, h: float, cx: float, cy: float) -> list[tuple[float, float]]:
+    """The four corners of a w x h rectangle centred at (cx, cy), counter-clockwise from
+    bottom-left (m)."""
+    return [(cx - w / 2, cy - h / 2), (cx + w / 2, cy - h / 2),
+            (cx + w / 2, cy + h / 2), (cx - w / 2, cy + h / 2)]
+
+
+def boxes(body: Body) -> list[tuple[float, tuple[float, float], tuple[float, float]]]:
+    """The body as (mass kg, (w, h) m, centre (x, y) m in the geometry frame) rectangles."""
+    if body.shape == "box":
+        return [(body.mass, tuple(body.size), (0.0, 0.0))]
+    if body.shape == "compound":
+        return [(p.mass, tuple(p.size), tuple(p.offset)) for p in body.parts]
+    raise ValueError(f"a {body.shape} body is not made of boxes")
+
+
+def rigid_body(body: Body) -> RigidBody:
+    """Mass properties and contact points of a scene body (module docstring)."""
+    m = float(body.mass)
+    if body.shape == "point":
+        return RigidBody(m, 0.0, (0.0, 0.0), np.array([[0.0, -float(body.contact_height)]]),
+                         rotates=False, points_rotate=False)
+    if body.shape == "circle":
+        R = float(body.radius)
+        return RigidBody(m, 0.5 * m * R * R, (0.0, 0.0), np.array([[0.0, -R]]),
+                         rotates=True, points_rotate=False)
+    parts = boxes(body)
+    total = sum(mj for mj, _, _ in parts)
+    cx = sum(mj * o[0] for mj, _, o in parts) / total
+    cy = sum(mj * o[1] for mj, _, o in parts) / total
+    inertia = 0.0
+    points: list[tuple[float, float]] = []
+    for mj, (w, h), (ox, oy) in parts:
+        dx, dy = ox - cx, oy - cy
+        inertia += mj * (w * w + h * h) / 12.0 + mj * (dx * dx + dy * dy)
+        points += _corners(w, h, dx, dy)
+    return RigidBody(float(total), float(inertia), (float(cx), float(cy)), np.array(points),
+                     rotates=True, points_rotate=True)
+
+
+def min_normal_effective_mass(rb: RigidBody) -> float:
+    """Smallest mass a contact point shows along the ground normal (kg), over all points and
+    angles: 1 / m_eff = 1/m + r_x^2 / I, largest when the lever |r_x| is the whole |r|."""
+    if not rb.points_rotate:
+        return rb.mass
+    r2 = float(np.max(np.sum(rb.points ** 2, axis=1)))
+    return 1.0 / (1.0 / rb.mass + r2 / rb.inertia)

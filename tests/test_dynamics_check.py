@@ -1,0 +1,117 @@
+"""Check `dynamics`: passes a correct simulator to round-off, and fails mistakes put into
+custom_sim's own computation (inertia, contact points, mass), while the twin it runs against
+stays bit for bit the same (it shares nothing with custom_sim)."""
+import dataclasses
+import importlib
+import json
+
+import numpy as np
+import pytest
+
+import custom_sim.bodies
+from compare.scenarios import load
+from compare.verdict.dynamics_check import (HORIZON_POSITION, ROUNDOFF_FLOOR_POSITION,
+                                            check_dynamics)
+from custom_sim import simulate
+from mujoco_models import simulate_dynamics
+
+SIMULATE = importlib.import_module("custom_sim.simulate")   # the module (the package exports the function)
+
+KEYS = {"name", "isolates", "integrator", "position_error_max", "angle_error_max",
+        "tolerance_position", "tolerance_angle", "pass", "reason"}
+
+
+def short(name, duration=0.4):
+    """box_drop's corner lands at 0.25 s: 0.4 s holds the impact and the rock back."""
+    return dataclasses.replace(load(name), duration=duration)
+
+
+def row_for(scene, integrator="semi_implicit_euler"):
+    run = dataclasses.replace(scene, integrator=integrator)
+    return check_dynamics(run, simulate(run).states(), integrator, run.dt)
+
+
+def assert_json_row(row):
+    assert KEYS <= set(row)
+    json.dumps(row, allow_nan=False)
+
+
+@pytest.mark.parametrize("integrator", ["semi_implicit_euler", "rk4"])
+def test_custom_sim_passes_to_round_off(integrator):
+    row = row_for(short("t_shape_drop"), integrator)
+    assert_json_row(row)
+    assert row["pass"] is True and row["bound"] == "round-off", row["reason"]
+    assert row["tolerance_position"] == ROUNDOFF_FLOOR_POSITION
+
+
+@pytest.mark.parametrize("integrator", ["explicit_euler", "implicit_euler"])
+def test_integrators_mujoco_lacks_are_not_judged(integrator):
+    scene = short("box_drop", 0.01)
+    row = check_dynamics(scene, np.zeros((scene.steps + 1, 6)), integrator, scene.dt)
+    assert_json_row(row)
+    assert row["pass"] is None and "MuJoCo has no" in row["reason"] and "check step" in row["reason"]
+
+
+def test_a_non_finite_trajectory_fails_with_its_step():
+    scene = short("box_drop", 0.01)
+    states = simulate(scene).states()
+    states[37:, 1] = np.nan
+    row = check_dynamics(scene, states, "semi_implicit_euler", scene.dt)
+    assert_json_row(row)
+    assert row["pass"] is False and row["first_step_over"] == 37
+
+
+def test_a_motion_that_amplifies_round_off_is_judged_with_its_measured_sensitivity():
+    """The T's semi-implicit friction update is unstable during its impact (h lambda = 3.5):
+    custom_sim and the twin part by 5e-9 m, above the round-off floor."""
+    row = row_for(load("t_shape_drop"))
+    assert_json_row(row)
+    assert row["bound"] == "sensitivity" and row["pass"] is True, row["reason"]
+    assert ROUNDOFF_FLOOR_POSITION < row["position_error_max"] <= row["tolerance_position"] <= HORIZON_POSITION
+    assert row["friction_step_number_max"] > 2.0 and "unstable" in row["reason"]
+
+
+# Mistakes put into custom_sim's own code, one at a time.
+
+def inertia_10_percent_high(monkeypatch):
+    real = custom_sim.bodies.box_inertia
+    monkeypatch.setattr(custom_sim.bodies, "box_inertia", lambda m, w, h: 1.1 * real(m, w, h))
+
+
+def corners_with_width_and_height_swapped(monkeypatch):
+    real = custom_sim.bodies.box_corners
+    monkeypatch.setattr(custom_sim.bodies, "box_corners", lambda w, h, centre=(0.0, 0.0): real(h, w, centre))
+
+
+def mass_10_percent_high_in_the_compiled_model(monkeypatch):
+    real = SIMULATE.build_model
+
+    def heavier(scene, props=None):
+        model, points = real(scene, props)
+        return model._replace(inv_mass=model.inv_mass / 1.1), points
+
+    monkeypatch.setattr(SIMULATE, "build_model", heavier)
+
+
+MISTAKES = [(inertia_10_percent_high, "box_drop"), (corners_with_width_and_height_swapped, "box_drop"),
+            (mass_10_percent_high_in_the_compiled_model, "point_drop"),
+            (inertia_10_percent_high, "t_shape_drop")]
+
+
+@pytest.mark.parametrize("mistake,name", MISTAKES, ids=[f"{m.__name__}-{n}" for m, n in MISTAKES])
+def test_a_mistake_in_custom_sim_fails_the_check_and_leaves_the_twin_alone(monkeypatch, mistake, name):
+    scene = short(name, 0.6 if name == "t_shape_drop" else 0.4)
+    twin_before = simulate_dynamics(scene).states()
+    correct = simulate(scene).states()
+    mistake(monkeypatch)
+    wrong = simulate(scene).states()
+    assert not np.array_equal(wrong, correct), "the mistake changes custom_sim's run"
+    row = check_dynamics(scene, wrong, "semi_implicit_euler", scene.dt)
+    assert_json_row(row)
+    assert row["pass"] is False, (f"{mistake.__name__} on {name} passed: {row['position_error_max']:.3g} m, "
+                                  f"{row['angle_error_max']:.3g} rad against {row['tolerance_position']:.3g} m")
+    assert row["position_error_max"] > 1e3 * row["tolerance_position"], (
+        f"{mistake.__name__} on {name}: {row['position_error_max']:.3g} m is close to the tolerance "
+        f"{row['tolerance_position']:.3g} m")
+    assert np.array_equal(simulate_dynamics(scene).states(), twin_before), \
+        "the twin moved with a mistake made in custom_sim"

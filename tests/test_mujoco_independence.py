@@ -1,0 +1,39 @@
+"""mujoco_models takes nothing derived from custom_sim: it may read the scene (custom_sim.scene)
+and return the shared Trajectory type (custom_sim.trajectory), nothing else. The one module
+that runs custom_sim is the comparison table, which no twin imports."""
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "mujoco_models"
+ALLOWED = {"custom_sim.scene", "custom_sim.trajectory"}
+COMPARISON_TOOLS = {"mapping_table.py"}   # prints custom_sim against the twins; imported by no twin
+MODULES = sorted(p for p in PACKAGE.glob("*.py"))
+
+
+def custom_sim_imports(path: Path) -> set[str]:
+    """Every custom_sim module or name the file imports (at any depth of the file)."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            found |= {a.name for a in node.names if a.name.split(".")[0] == "custom_sim"}
+        elif isinstance(node, ast.ImportFrom) and node.module and node.module.split(".")[0] == "custom_sim":
+            found.add(node.module if node.module != "custom_sim" else
+                      "custom_sim:" + ",".join(a.name for a in node.names))
+    return found
+
+
+@pytest.mark.parametrize("path", MODULES, ids=[p.name for p in MODULES])
+def test_only_the_scene_model_and_the_trajectory_type(path):
+    if path.name in COMPARISON_TOOLS:
+        return
+    extra = custom_sim_imports(path) - ALLOWED
+    assert not extra, f"{path.name} imports {sorted(extra)} from custom_sim"
+
+
+def test_no_twin_imports_the_comparison_tools():
+    for path in MODULES:
+        text = path.read_text()
+        for tool in COMPARISON_TOOLS:
+            assert f".{tool[:-3]}" not in text or path.name == tool, f"{path.name} imports {tool}"
