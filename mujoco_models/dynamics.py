@@ -21,8 +21,6 @@ rolling resistance; friction_at="midpoint" applies friction where MuJoCo puts it
 """
 from __future__ import annotations
 
-import numpy as np
-
 from custom_sim.scene import Scene
 from custom_sim.trajectory import Trajectory
 
@@ -73,7 +71,3 @@ def simulate_dynamics(scene: Scene, integrator: str = "Euler", dt: float | None 
                         solimp=list(twin.contact.solimp))
         return trajectory_from(twin, model, data, rows, sensors, wall, "mujoco_dynamics", evals, meta)
 
-
-def dynamics_states(scene: Scene, integrator: str, dt: float | None = None) -> np.ndarray:
-    """The dynamics twin's states (steps + 1, 6) under the scene integrator's MuJoCo twin."""
-    return simulate_dynamics(scene, integrator, dt).states()

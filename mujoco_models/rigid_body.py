@@ -88,11 +88,3 @@ def rigid_body(body: Body) -> RigidBody:
     return RigidBody(float(total), float(inertia), (float(cx), float(cy)), np.array(points),
                      rotates=True, points_rotate=True)
 
-
-def min_normal_effective_mass(rb: RigidBody) -> float:
-    """Smallest mass a contact point shows along the ground normal (kg), over all points and
-    angles: 1 / m_eff = 1/m + r_x^2 / I, largest when the lever |r_x| is the whole |r|."""
-    if not rb.points_rotate:
-        return rb.mass
-    r2 = float(np.max(np.sum(rb.points ** 2, axis=1)))
-    return 1.0 / (1.0 / rb.mass + r2 / rb.inertia)
