@@ -28,7 +28,8 @@ def test_builtin_scenario_agrees_with_mujoco(path):
     if contact["tolerance_angle"] is not None:
         assert contact["angle_error_max"] <= contact["tolerance_angle"] <= MOTION_SHARE * contact["motion_angle"]
     # the full comparison: shown, not judged, and fully attributed
-    assert all(row["pass"] is None for row in result.by_mapping.values())
+    native = next(c for c in result.checks if c["name"] == "native")
+    assert native["pass"] is None and native["position_error_max"] == result.metrics["position_error_max"]
     ladder = result.attribution
     assert all(r["measured"] for r in ladder), [r["note"] for r in ladder]
     assert ladder[0]["position_error_max"] == pytest.approx(result.metrics["position_error_max"], rel=1e-9, abs=1e-15)
@@ -36,5 +37,5 @@ def test_builtin_scenario_agrees_with_mujoco(path):
     shares = sum(r["share_position"] for r in ladder[1:])
     assert shares == pytest.approx(ladder[0]["position_error_max"], rel=1e-9, abs=1e-15)
     data = metrics_json(result)
-    assert data["checks"][0]["name"] == "contact"
+    assert {"step", "dynamics", "contact", "native"} <= {c["name"] for c in data["checks"]}
     assert all(math.isfinite(v) for r in data["attribution"] for v in r.values() if isinstance(v, float))

@@ -1,5 +1,5 @@
-"""The full-effects comparison against MuJoCo's native contact: shown, with its attribution,
-not judged by an upper bound.
+"""Check `native`: the full-effects comparison against MuJoCo's own contact, shown beside the
+judged checks, with its attribution, and judged only by a bound the scene file sets.
 
 With every effect on, custom_sim and MuJoCo's native contact differ by causes that are models,
 not mistakes (the friction law, the shared cone, the mid-penetration contact point, the damping
@@ -10,44 +10,29 @@ law, the mapping). Upper bounds on them exceeded the motion itself (0.38 m on a 
                against the mapping's measured error and the motion's sensitivity to it
     measured   the difference with every effect on, split cause by cause (attribution.py)
 
-`derive` is kept for its callers: it returns the full comparison's Tolerance, which is "not
-judged" (checked False, position and angle None) unless the scene file sets a [tolerance],
-the user's own bound with its reason, which is then judged.
+A [tolerance] table in the scene file is the user's own bound with its reason: the native
+comparison is then judged by it.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 from custom_sim import Scene
 
+ISOLATES = "MuJoCo's own contact with every effect on (the scene's solref mapping)"
 NOT_JUDGED = ("not judged: with every effect on the two differ by named models (friction law, "
               "contact point, damping law, mapping), each measured in the attribution; the judged "
               "comparison is check `contact` (friction off)")
 
 
-@dataclass(frozen=True)
-class Tolerance:
-    position: float | None       # m, on the maximum position difference (None: not judged)
-    angle: float | None          # rad, on the maximum angle difference (None: not judged)
-    terms: dict = field(default_factory=dict)   # kept for callers: no bound terms any more
-    reason: str = NOT_JUDGED
-    checked: bool = False        # True only for a tolerance set in the scene file
-
-
-def derive(scene: Scene, mapping: str | None = None) -> Tolerance:
-    """The full comparison's tolerance for `mapping` (default the scene's): not judged, unless
-    the scene file sets one (then judged against the scene's own mapping only)."""
-    mapping = mapping or scene.mujoco.solref
+def native_row(scene: Scene, metrics: dict) -> dict:
+    """The check row of the full comparison (metrics of the scene's own mapping)."""
     own = scene.tolerance
-    if (own.position is not None or own.angle is not None) and mapping == scene.mujoco.solref:
-        return Tolerance(own.position, own.angle,
-                         reason=f"set in the scene file: {own.reason or 'no reason given'}", checked=True)
-    return Tolerance(None, None)
-
-
-def judge(tol: Tolerance, metrics: dict) -> bool:
-    """Within tolerance (always True for a comparison that is not judged)."""
-    if not tol.checked:
-        return True
-    return ((tol.position is None or metrics["position_error_max"] <= tol.position)
-            and (tol.angle is None or metrics["angle_error_max"] <= tol.angle))
+    judged = own.position is not None or own.angle is not None
+    passed = None
+    if judged:
+        passed = ((own.position is None or metrics["position_error_max"] <= own.position)
+                  and (own.angle is None or metrics["angle_error_max"] <= own.angle))
+    return {"name": "native", "isolates": ISOLATES, "integrator": None,
+            "position_error_max": metrics["position_error_max"], "angle_error_max": metrics["angle_error_max"],
+            "tolerance_position": own.position, "tolerance_angle": own.angle, "pass": passed,
+            "reason": f"set in the scene file: {own.reason or 'no reason given'}" if judged else NOT_JUDGED,
+            "mapping": scene.mujoco.solref}
