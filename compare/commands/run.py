@@ -155,6 +155,7 @@ def main(args) -> int:
         print(verdict_line(r))
     for name, status, why in failed:
         print(f"{name:<20} {status}: {why}")
+        print(f"error: {why}", file=sys.stderr)
     print(f"report: {index}")
     return 0 if not failed and all(r["pass"] for r in ordered) else 1
 
