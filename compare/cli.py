@@ -22,6 +22,7 @@ COMMANDS = {
     "sweep": "compare.commands.sweep",
     "bench": "compare.commands.bench",
     "play": "compare.commands.play",
+    "study": "compare.commands.study",
 }
 
 EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2
