@@ -107,6 +107,7 @@ class Engine:
                                             dashboard_address=None, silence_logs=logging.ERROR)
             self.client = Client(self.cluster)
         self.client.run(_worker_setup)
+        self.retried = 0   # tasks submitted again after a failure, over this engine's life
         self.threads_per_task = self._threads_per_task()
 
     def _threads_per_task(self) -> int:
@@ -175,6 +176,7 @@ class Engine:
                 bar.update(task.runs)
                 continue
             retry = split(task) if (split and task.runs > 1) else [replace(task, attempt=2)]
+            self.retried += 1
             for t in retry:
                 stream.add(submit(t))
         bar.close()

@@ -157,8 +157,7 @@ def plot(study, metric: str, path) -> None:
     else:
         finite = [r[column] for r in study.rows if r.get(column) is not None and r[column] > 0]
         lo, hi = (min(finite), max(finite)) if finite else (1e-9, 1.0)
-        cmap = plt.get_cmap("viridis").copy()
-        cmap.set_bad("#e6e6e6")
+        cmap = plt.get_cmap("viridis").with_extremes(bad="#e6e6e6")
         norm = LogNorm(lo, max(hi, lo * 10))
         value_of = lambda r: r[column] if r.get(column) is not None and r[column] > 0 else np.nan  # noqa: E731
     mesh = None

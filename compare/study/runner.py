@@ -17,7 +17,7 @@ import numpy as np
 from ..engine import Engine, Store, Task
 from .fields import SceneSource, Vary
 from .measure import failed_rows, measure_batch, reference_states
-from .plan import Point, _hash, batches, physics_scene, plan, sample_times
+from .plan import BATCH_SECONDS, Point, _hash, batches, physics_scene, plan, sample_times
 
 
 @dataclass
@@ -33,6 +33,7 @@ class Study:
     threads_per_task: int
     scheduler: str | None
     twin: bool
+    retried: int = 0        # tasks submitted again after a failure (a worker died, an error)
 
     @property
     def names(self) -> list[str]:
@@ -68,7 +69,10 @@ def _failed(task: Task, reason: str) -> list[dict]:
 
 def run_study(source: SceneSource, varies: list[Vary], integrators: list[str], out: Path,
               scheduler: str | None = None, workers: int | None = None, twin: bool = True,
-              progress: bool = True) -> Study:
+              progress: bool = True, engine: Engine | None = None,
+              batch_seconds: float = BATCH_SECONDS) -> Study:
+    """Run (or finish) the study whose kept results live in `out`; engine: an Engine to use
+    (default: one started for the study, on `scheduler` or a local cluster of `workers`)."""
     start = time.perf_counter()
     points = plan(source, varies, integrators)
     store = Store(out / "batches")
@@ -76,20 +80,28 @@ def run_study(source: SceneSource, varies: list[Vary], integrators: list[str], o
     todo = [p for p in points if any(r.key not in done for r in p.runs)]
     todo = [replace(p, runs=tuple(r for r in p.runs if r.key not in done)) for p in todo]
     reused = sum(len(p.runs) for p in points) - sum(len(p.runs) for p in todo)
-    n_workers, threads = 0, 1
+    n_workers, threads, retried = 0, 1, 0
     if todo:
-        with Engine(scheduler=scheduler, workers=workers) as engine:
+        own = engine is None
+        engine = engine or Engine(scheduler=scheduler, workers=workers)
+        try:
             n_workers, threads = engine.workers, engine.threads_per_task
+            before = engine.retried
             refs = _references(engine, todo, out / "references", progress)
-            tasks = [_batch_task(b, [refs[p.key] for p in b], threads, twin) for b in batches(todo, twin)]
+            tasks = [_batch_task(b, [refs[p.key] for p in b], threads, twin)
+                     for b in batches(todo, twin, batch_seconds)]
             results = engine.run(measure_batch, tasks, desc="study", store=store, split=_split,
                                  failed=_failed, progress=progress)
+            retried = engine.retried - before
+        finally:
+            if own:
+                engine.close()
         for rows in results.values():
             for row in rows:
                 done[row["key"]] = row
     rows = [done[r.key] for p in points for r in p.runs]
     return Study(source, varies, integrators, points, rows, reused, time.perf_counter() - start,
-                 n_workers, threads, scheduler, twin)
+                 n_workers, threads, scheduler, twin, retried)
 
 
 def _references(engine: Engine, points: list[Point], cache: Path, progress: bool) -> dict:
