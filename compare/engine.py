@@ -7,7 +7,7 @@ A task is a batch: fn(*task.args) is a pure function of its arguments (picklable
 worker can run it) and its result depends on nothing else. The cluster is
 
   - by default a LocalCluster of `workers` processes (default: every core) of one thread
-    each: numba's and MuJoCo's own threads are then the only parallelism inside a process,
+    each, started once per process (a start takes seconds) and closed at exit: numba's and MuJoCo's own threads are then the only parallelism inside a process,
     and `threads_per_task` tells each task how many it may use (cores / workers on its host);
   - with `scheduler="tcp://HOST:PORT"` an existing cluster (`dask scheduler`, `dask worker`).
 
@@ -82,12 +82,45 @@ def _host_and_cores() -> tuple[str, int]:
     return socket.gethostname(), os.cpu_count() or 1
 
 
+_LOCAL: dict[int, tuple] = {}   # workers -> (LocalCluster, Client): one per process, reused
+
+
+def _local_client(workers: int):
+    """The process's local cluster of `workers` single-thread worker processes, started once
+    (a start takes seconds) and closed when the process exits."""
+    import atexit
+
+    import dask
+    from distributed import Client, LocalCluster
+
+    cluster, client = _LOCAL.get(workers, (None, None))
+    if cluster is not None and cluster.status.name == "running" and client.status == "running":
+        return cluster, client
+    # a task on a worker that dies is not rescheduled behind the engine's back: the engine
+    # resubmits it (split into single runs) and counts the attempt
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=None, worker_dashboard_address=None,
+                               silence_logs=logging.ERROR)
+    client = Client(cluster)
+    if not _LOCAL:
+        atexit.register(_close_local)
+    _LOCAL[workers] = (cluster, client)
+    return cluster, client
+
+
+def _close_local() -> None:
+    for cluster, client in _LOCAL.values():
+        client.close()
+        cluster.close()
+    _LOCAL.clear()
+
+
 class Engine:
     """A Dask client on a local or remote cluster (see the module docstring)."""
 
     def __init__(self, scheduler: str | None = None, workers: int | None = None):
-        import dask
-        from distributed import Client, LocalCluster
+        from distributed import Client
 
         self.scheduler = scheduler
         self.cluster = None
@@ -99,13 +132,7 @@ class Engine:
                 raise BadInput(f"--scheduler {scheduler}: no Dask scheduler answers there ({exc}); "
                                "expected the address of a running `dask scheduler`, e.g. tcp://127.0.0.1:8786") from None
         else:
-            workers = workers or os.cpu_count() or 1
-            # a task on a worker that dies is not rescheduled behind the engine's back: the
-            # engine resubmits it (split into single runs) and counts the attempt
-            with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
-                self.cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                            dashboard_address=None, silence_logs=logging.ERROR)
-            self.client = Client(self.cluster)
+            self.cluster, self.client = _local_client(workers or os.cpu_count() or 1)
         self.client.run(_worker_setup)
         self.retried = 0   # tasks submitted again after a failure, over this engine's life
         self.threads_per_task = self._threads_per_task()
@@ -123,9 +150,10 @@ class Engine:
         return len(self.client.scheduler_info(n_workers=-1)["workers"])
 
     def close(self) -> None:
-        self.client.close()
-        if self.cluster is not None:
-            self.cluster.close()
+        """Disconnect from a remote cluster; the local cluster stays for the process's next
+        engine and is closed at exit."""
+        if self.cluster is None:
+            self.client.close()
 
     def __enter__(self) -> Engine:
         return self
