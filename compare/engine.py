@@ -119,7 +119,9 @@ def _close_local() -> None:
 class Engine:
     """A Dask client on a local or remote cluster (see the module docstring)."""
 
-    def __init__(self, scheduler: str | None = None, workers: int | None = None):
+    def __init__(self, scheduler: str | None = None, workers: int | None = None,
+                 threads_per_task: int | None = None):
+        """threads_per_task: threads a task may use (default: cores / workers on its host)."""
         from distributed import Client
 
         self.scheduler = scheduler
@@ -135,7 +137,7 @@ class Engine:
             self.cluster, self.client = _local_client(workers or os.cpu_count() or 1)
         self.client.run(_worker_setup)
         self.retried = 0   # tasks submitted again after a failure, over this engine's life
-        self.threads_per_task = self._threads_per_task()
+        self.threads_per_task = threads_per_task or self._threads_per_task()
 
     def _threads_per_task(self) -> int:
         """Cores per worker on the busiest host (at least 1): what a task may use inside."""

@@ -30,7 +30,7 @@ STUDY_VERSION = 1
 SAMPLE = 2e-3
 # Estimated cost of a batch (s): far above Dask's per-task overhead (about 1 ms) and short
 # enough that a dead worker loses little and the progress bar moves.
-BATCH_SECONDS = 1.0
+BATCH_SECONDS = 0.25
 # Rough costs for packing batches (s per force evaluation; s per MuJoCo stage).
 CUSTOM_EVAL_COST = 80e-9
 IMPLICIT_EVALS_PER_STEP = 12
