@@ -132,6 +132,9 @@ def test_table_equals_single_runs_bit_for_bit(engine, source, tmp_path):
     # run again over the same folder: everything comes from the kept batches
     again = run_study(source, varies, integrators, tmp_path, engine=engine, progress=False)
     assert again.reused == 12 and again.workers == 0 and again.rows == study.rows
+    # another study over the same folder that shares runs: the kept rows carry its own values
+    fewer = run_study(source, [parse_vary("dt=1e-4")], ["rk4"], tmp_path, engine=engine, progress=False)
+    assert fewer.reused == 1 and fewer.rows[0]["values"] == [1e-4]
 
 
 def test_a_killed_worker_loses_no_run_and_duplicates_none(engine, source, tmp_path):

@@ -225,4 +225,6 @@ def measured_limits(study) -> list[dict]:
         out.append({"integrator": integ, "values": dict(zip(others, combo)), "stable_up_to": largest,
                     "first_unstable": first_bad, "theory": theory,
                     "ratio": (largest / theory) if (largest and theory) else math.nan})
+    order = {name: i for i, name in enumerate(study.integrators)}
+    out.sort(key=lambda lim: (order[lim["integrator"]], tuple(lim["values"].values())))
     return out

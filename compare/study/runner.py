@@ -99,7 +99,9 @@ def run_study(source: SceneSource, varies: list[Vary], integrators: list[str], o
         for rows in results.values():
             for row in rows:
                 done[row["key"]] = row
-    rows = [done[r.key] for p in points for r in p.runs]
+    # a kept row may come from another study over the same folder (other fields varied, the
+    # same scene): its values are this study's
+    rows = [dict(done[r.key], values=list(r.values)) for p in points for r in p.runs]
     return Study(source, varies, integrators, points, rows, reused, time.perf_counter() - start,
                  n_workers, threads, scheduler, twin, retried)
 
