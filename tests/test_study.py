@@ -170,4 +170,4 @@ def test_a_killed_worker_loses_no_run_and_duplicates_none(engine, source, tmp_pa
             for row in __import__("json").loads(f.read_text())]
     assert sorted(kept) == sorted(keys)      # each run written once
     # the cluster is whole again for the next test (the nanny restarts the worker)
-    engine.client.wait_for_workers(2, timeout=30)
+    engine.client.wait_for_workers(2, timeout=120)
