@@ -85,9 +85,17 @@ def main(args) -> int:
     from ..study.report import write_report
     from ..study.runner import run_study
 
-    out.mkdir(parents=True, exist_ok=True)
-    study = run_study(source, varies, integrators, out, scheduler=args.scheduler,
-                      workers=args.workers, twin=not args.no_twin)
+    engine = None
+    if args.scheduler:   # a wrong address is bad input: found before anything is written
+        from ..engine import Engine
+        engine = Engine(scheduler=args.scheduler)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        study = run_study(source, varies, integrators, out, scheduler=args.scheduler,
+                          workers=args.workers, twin=not args.no_twin, engine=engine)
+    finally:
+        if engine is not None:
+            engine.close()
     index = write_report(study, out, command=command_line(args))
     counts = {s: sum(r["status"] == s for r in study.rows) for s in ("ok", "unstable", "failed")}
     print(f"study of {len(study.rows)} runs ({counts['ok']} ok, {counts['unstable']} unstable, "

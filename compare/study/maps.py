@@ -129,9 +129,9 @@ def _theory(study, ax, xa, ya, extra, combo, integrator, grid_rows):
 
 METRICS = {
     "stability": ("stable (green), unstable (red), failed (grey)", None),
-    "error": ("max position error against the reference (m)", "position_error_max"),
-    "twin": ("max position difference to the MuJoCo twin (m)", "twin_position_error_max"),
-    "cost": ("wall time of the run (s)", "wall_time"),
+    "error": ("max position error against the reference (m); x: unstable run", "position_error_max"),
+    "twin": ("max position difference to the MuJoCo twin (m); x: unstable run", "twin_position_error_max"),
+    "cost": ("wall time of the run (s); x: unstable run", "wall_time"),
 }
 
 
@@ -168,6 +168,14 @@ def plot(study, metric: str, path) -> None:
             yedges = ya.edges if ya else np.array([0.0, 1.0])
             xe = xa.edges if xa.numeric else np.arange(len(xa.values) + 1) - 0.5
             mesh = ax.pcolormesh(xe, yedges, np.ma.masked_invalid(grid), cmap=cmap, norm=norm, shading="flat")
+            if column is not None:   # the value of an unstable run is shown, crossed out
+                bad = _grid(study, xa, ya, extra, combo, integ, lambda r: float(r["status"] != "ok"))
+                yi, xi = np.nonzero(bad == 1.0)
+                if yi.size:
+                    ax.scatter([xa.position(xa.values[k]) for k in xi],
+                               [ya.position(ya.values[k]) for k in yi] if ya else [0.5] * yi.size,
+                               marker="x", s=18, color="#d0453c", linewidths=1.0,
+                               label="unstable (or failed)")
             rows = [r for r in study.rows if r["integrator"] == integ]
             drawn = _theory(study, ax, xa, ya, extra, combo, integ, rows)
             xa.apply(ax.set_xlim, ax.set_xscale, ax.set_xticks)
