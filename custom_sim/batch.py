@@ -5,7 +5,9 @@
 Every run goes through `integrators.integrate`, the very loop `simulate` calls, with the same
 model, guard and counters, so a run of the batch is bit for bit the run `simulate` makes (a
 test checks it). The batch adds only the loop over runs: `numba.prange`, a chunk of one run
-per thread at a time, so a long run does not hold up a thread's share of short ones.
+per thread at a time, so a long run does not hold up a thread's share of short ones. The call
+releases the GIL (nogil), so the calling process (a Dask worker's heartbeat) keeps running
+meanwhile, and reads the clock without it.
 
 Each run records its whole trajectory into a buffer of its own (48 bytes a step, allocated
 inside the loop: only `threads` of them exist at once) and keeps the rows asked for in
@@ -19,7 +21,10 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
+from llvmlite import ir
 from numba import njit, prange
+from numba.core import cgutils, types
+from numba.extending import intrinsic
 
 from .bodies import mass_properties
 from .integrators import FORCE_EVALS, INTEGRATORS, NEWTON_ITERS, integrate
@@ -52,16 +57,33 @@ class BatchRun:
         return self.failed_step >= 0
 
 
-@njit(cache=True)
-def _clock():
-    with numba.objmode(now="float64"):
-        now = time.perf_counter()
-    return now
+# The clock read around each run: clock_gettime(CLOCK_MONOTONIC), called from compiled code
+# without the GIL (numba's objmode would take the GIL twice a run, and with two threads the
+# waiting cost 0.5 ms a run, more than a short run itself).
+MONOTONIC = getattr(time, "CLOCK_MONOTONIC", 1)
 
 
-@njit(cache=True, parallel=True)
+@intrinsic
+def _monotonic(typingctx, clock_id):
+    """Seconds on the clock `clock_id` (float64), by libc's clock_gettime."""
+    sig = types.float64(types.int32)
+
+    def codegen(context, builder, signature, args):
+        i64, i32, f64 = ir.IntType(64), ir.IntType(32), ir.DoubleType()
+        timespec = ir.LiteralStructType([i64, i64])   # tv_sec, tv_nsec
+        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(i32, [i32, timespec.as_pointer()]),
+                                            "clock_gettime")
+        ts = cgutils.alloca_once(builder, timespec)
+        builder.call(fn, [args[0], ts])
+        sec = builder.sitofp(builder.load(cgutils.gep_inbounds(builder, ts, 0, 0)), f64)
+        nsec = builder.sitofp(builder.load(cgutils.gep_inbounds(builder, ts, 0, 1)), f64)
+        return builder.fadd(sec, builder.fmul(nsec, ir.Constant(f64, 1e-9)))
+    return sig, codegen
+
+
+@njit(cache=True, parallel=True, nogil=True)
 def _run_batch(floats, switches, points, n_points, z0, dt, steps, methods, guards,
-               sample_rows, n_samples, out, failed, final, counters, wall):
+               sample_rows, n_samples, out, failed, final, counters, wall, clock):
     """prange over runs b: integrate run b and copy the rows sample_rows[b, :n_samples[b]]
     (0 = the initial state, i = after step i) into out[b]."""
     for b in prange(floats.shape[0]):
@@ -77,9 +99,9 @@ def _run_batch(floats, switches, points, n_points, z0, dt, steps, methods, guard
         trajectory = np.empty((n, 6))
         ext = np.zeros((1, 3))
         count = np.zeros(4, dtype=np.int64)
-        start = _clock()
+        start = _monotonic(clock)
         stop = integrate(model, pts, z, dt[b], n, methods[b], ext, trajectory, count, guard)
-        wall[b] = _clock() - start
+        wall[b] = _monotonic(clock) - start
         failed[b] = stop
         final[b] = z
         counters[b] = count
@@ -142,7 +164,7 @@ def simulate_batch(scenes: list[Scene], samples: list[np.ndarray] | None = None,
     numba.set_parallel_chunksize(1)   # one run per thread at a time: runs differ in length
     try:
         _run_batch(floats, switches, points, n_points, z0, dt, steps, methods, guards,
-                   sample_rows, n_samples, out, failed, final, counters, wall)
+                   sample_rows, n_samples, out, failed, final, counters, wall, np.int32(MONOTONIC))
     finally:
         numba.set_parallel_chunksize(0)
         numba.set_num_threads(previous)
