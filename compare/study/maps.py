@@ -20,9 +20,9 @@ STATUS_COLORS = {"ok": "#4a9e5c", "unstable": "#d0453c", "failed": "#9a9a9a"}
 
 
 def _is_log(values) -> bool:
-    """A log axis for positive values spanning more than a decade and a bit."""
+    """A log axis for positive values spanning a decade or more."""
     v = np.asarray(values, dtype=float)
-    return v.size >= 2 and bool(np.all(v > 0)) and v.max() / v.min() >= 20
+    return v.size >= 2 and bool(np.all(v > 0)) and v.max() / v.min() >= 10
 
 
 def _edges(values, log: bool) -> np.ndarray:
@@ -147,7 +147,7 @@ def plot(study, metric: str, path) -> None:
     for row in study.rows:
         row["_dt"] = dict(zip(study.names, row["values"])).get("dt", study.source.scene.dt)
     ncol, nrow = len(study.integrators), len(combos)
-    fig, axes = plt.subplots(nrow, ncol, figsize=(3.6 * ncol + 1.2, (3.0 if ya else 1.6) * nrow + 1.0),
+    fig, axes = plt.subplots(nrow, ncol, figsize=(max(7.0, 3.6 * ncol + 1.2), (3.0 if ya else 1.6) * nrow + 1.0),
                              squeeze=False, sharex=True, sharey=True)
     codes = {"ok": 0, "unstable": 1, "failed": 2}
     if column is None:
@@ -198,9 +198,9 @@ def plot(study, metric: str, path) -> None:
     if handles:
         axes[0, 0].legend(fontsize=7, loc="lower left")
     fig.suptitle(f"{study.source.scene.name}: {title}", fontsize=10)
-    fig.tight_layout(rect=(0, 0, 0.92 if column else 1.0, 0.95))
+    fig.tight_layout(rect=(0, 0, 0.88 if column else 1.0, 0.95))
     if column and mesh is not None:
-        cax = fig.add_axes([0.935, 0.12, 0.015, 0.75])
+        cax = fig.add_axes([0.895, 0.12, 0.015, 0.75])
         fig.colorbar(mesh, cax=cax)
     fig.savefig(path, dpi=110)
     plt.close(fig)
