@@ -36,22 +36,27 @@ def _index_lines(study, figures, parquet: bool, command: str | None) -> list[str
     counts = {s: sum(r["status"] == s for r in study.rows) for s in ("ok", "unstable", "failed")}
     where = (f"the cluster at {study.scheduler}" if study.scheduler else
              f"a local Dask cluster of {study.workers} worker process(es), one thread each")
-    if not study.workers:
-        where = "nothing: every run was already in batches/"
     lines = [f"# Study of {scene.name}", "", scene.description, ""]
     if command:
         lines += ["```", command, "```", ""]
+    summary = (f"{len(study.rows)} runs: {counts['ok']} ok, {counts['unstable']} unstable, "
+               f"{counts['failed']} failed.")
+    if study.workers:
+        summary += (f" {len(study.rows) - study.reused} computed in {study.wall_time:.1f} s on {where}, "
+                    f"{study.threads_per_task} thread(s) per task")
+        summary += f"; {study.reused} taken from batches/ (an earlier run)." if study.reused else "."
+    else:
+        summary += " All were taken from batches/ (computed by an earlier run of this study)."
     lines += [
-        f"{len(study.rows)} runs ({counts['ok']} ok, {counts['unstable']} unstable, {counts['failed']} failed; "
-        f"{study.reused} reused from an earlier run) in {study.wall_time:.1f} s on {where}"
-        + (f", {study.threads_per_task} thread(s) per task." if study.workers else "."),
+        summary,
         "",
         "Varied:", ""]
     for v in study.varies:
         lines.append(f"- `{v.name}`: {', '.join(_value(x) for x in v.values)}")
     lines += [f"- integrators: {', '.join(study.integrators)}", "",
               "Every other field is the scene file's. Per run: `stable` (custom_sim did not stop the run "
-              "as diverged), `position_error_max` (m, the largest distance of the centre of mass from the "
+              "as diverged, and the energy read outside hard contact did not rise by more than 10 % of the "
+              "motion's largest kinetic energy), `position_error_max` (m, the largest distance of the centre of mass from the "
               "converged reference, read every 2 ms), `twin_position_error_max` (m, the same against the "
               "MuJoCo twin of the same scene), `wall_time` (s, the compiled stepping alone), `force_evals`, "
               f"`status`. Table: [study.csv](study.csv){' and study.parquet' if parquet else ''}; "
