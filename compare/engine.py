@@ -75,6 +75,7 @@ def _worker_setup() -> None:
     """Run in every worker: one thread for each library that would start its own pool."""
     for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(var, "1")
+    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")   # see custom_sim/batch.py
 
 
 def _host_and_cores() -> tuple[str, int]:

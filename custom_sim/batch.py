@@ -16,6 +16,7 @@ the step and the state.
 """
 from __future__ import annotations
 
+import os
 import time
 from dataclasses import dataclass
 
@@ -31,6 +32,12 @@ from .integrators import FORCE_EVALS, INTEGRATORS, NEWTON_ITERS, integrate
 from .model import Model, build_model, initial_state
 from .scene import Scene
 from .simulate import blowup_guard
+
+# OpenMP threads that finish their share of a batch sleep instead of spinning: a spinning
+# thread takes the core from the one still working (measured: a batch of 16 short runs on two
+# threads took 16 ms of wall time spinning, 2.6 ms passive, 1.8 ms on one thread). Only read
+# when the OpenMP runtime starts, i.e. before the first parallel call of the process.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 # Model fields in the order of custom_sim.model.Model: the floats, then the switches.
 _FLOATS = ("inv_mass", "inv_inertia", "g", "k", "c", "mu", "alpha", "mu_roll")
