@@ -85,6 +85,20 @@ def mujoco_rates() -> list[dict]:
     return out
 
 
+def _warm() -> None:
+    """Run in every worker before timing: imports, numba's cache and a MuJoCo twin loaded."""
+    import dataclasses
+
+    from custom_sim.batch import simulate_batch
+    from mujoco_models.batch import simulate_mujoco_batch
+
+    from ..scenarios import load
+
+    scene = dataclasses.replace(load("box_drop"), duration=0.05)
+    simulate_batch([scene], threads=1)
+    simulate_mujoco_batch([scene])
+
+
 def study_times() -> list[dict]:
     from ..engine import Engine
     from ..scenarios import resolve
@@ -99,7 +113,8 @@ def study_times() -> list[dict]:
         engine = Engine(workers=workers, threads_per_task=threads)
         folder = Path(tempfile.mkdtemp(prefix="study-bench-"))
         try:
-            # warm the workers (imports, numba's cache) with a one-run study elsewhere
+            # warm every worker (imports, numba's cache), then the client with a one-run study
+            engine.client.run(_warm)
             warm = Path(tempfile.mkdtemp(prefix="study-warm-"))
             run_study(source, [parse_vary("contact.k=2e4")], ["rk4"], warm, engine=engine, progress=False)
             shutil.rmtree(warm, ignore_errors=True)
