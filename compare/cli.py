@@ -26,6 +26,7 @@ COMMANDS = {
     "calibrate": "compare.commands.calibrate",
     "solref": "compare.commands.solref",
     "attribute": "compare.commands.attribute",
+    "study": "compare.commands.study",
 }
 
 EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2

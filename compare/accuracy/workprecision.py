@@ -26,7 +26,8 @@ processes on a shared machine: see compare/accuracy/benchmark.py); `wall_time` i
 
 Runs are kept only where stable (stability_search.energy_verdict on the grid states); a rung
 predicted to take longer than RUN_BUDGET is skipped (the ladder stops there). The tasks run
-in a process pool over every core.
+on the Dask engine (compare/engine.py): a local cluster of single-thread worker processes over
+every core, or an existing cluster.
 """
 from __future__ import annotations
 
@@ -34,7 +35,6 @@ import dataclasses
 import math
 import os
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -317,11 +317,14 @@ _WEIGHT = {"mujoco_converged": 40, "mujoco": 10, "custom": 5, "stability_mujoco"
 
 def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: int | None = None,
               mujoco: bool = True, stability: bool = True, progress=None,
-              ladders: dict | None = None) -> list[SceneSweep]:
-    """Measure every scene; progress(total) -> a tqdm-like object with update(), or None;
-    ladders: {"custom": steps per grid interval, "mujoco": ..., "mujoco_converged": n}
-    to replace LADDER, MUJOCO_LADDER and MUJOCO_CONVERGED_N (shorter runs in tests)."""
-    jobs = jobs or os.cpu_count() or 1
+              ladders: dict | None = None, scheduler: str | None = None) -> list[SceneSweep]:
+    """Measure every scene on the Dask engine (compare/engine.py): a local cluster of `jobs`
+    worker processes, or the cluster at `scheduler`; progress: show progress bars when given
+    (any true value); ladders: {"custom": steps per grid interval, "mujoco": ...,
+    "mujoco_converged": n} to replace LADDER, MUJOCO_LADDER and MUJOCO_CONVERGED_N (shorter
+    runs in tests)."""
+    from ..engine import Engine, Task
+
     cache = None if cache_dir is None else str(cache_dir)
     tasks = []
     for s in scenes:
@@ -334,23 +337,13 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
             if stability:
                 tasks += [("stability_mujoco", s, name) for name in MUJOCO_INTEGRATORS]
     tasks.sort(key=lambda t: -_WEIGHT[t[0]] * t[1].duration)
-    bar = progress(len(scenes) + len(tasks)) if progress else None
-    results: dict = {}
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
-        refs = {pool.submit(_task, "reference", s, None, None, cache): s.name for s in scenes}
-        references = {}
-        for fut in as_completed(refs):
-            references[refs[fut]] = fut.result()
-            if bar:
-                bar.update(1)
-        futures = {pool.submit(_task, kind, s, integ, references[s.name], cache, ladders): (kind, s.name, integ)
-                   for kind, s, integ in tasks}
-        for fut in as_completed(futures):
-            results[futures[fut]] = fut.result()
-            if bar:
-                bar.update(1)
-    if bar:
-        bar.close()
+    with Engine(scheduler=scheduler, workers=None if scheduler else (jobs or os.cpu_count() or 1)) as engine:
+        references = engine.run(_task, [Task(s.name, ("reference", s, None, None, cache)) for s in scenes],
+                                desc="references", progress=bool(progress))
+        keyed = {f"{kind}-{s.name}-{integ}": (kind, s.name, integ) for kind, s, integ in tasks}
+        done = engine.run(_task, [Task(f"{kind}-{s.name}-{integ}", (kind, s, integ, references[s.name], cache, ladders))
+                                  for kind, s, integ in tasks], desc="sweep", progress=bool(progress))
+    results = {keyed[key]: value for key, value in done.items()}
     out = []
     for s in scenes:
         ref = references[s.name]

@@ -35,7 +35,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--out", default="reports", metavar="DIR",
                         help="output folder (default: reports/); writes DIR/sweep/")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                        help="worker processes (default: every core)")
+                        help="worker processes of the local Dask cluster (default: every core)")
+    parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                        help="run on this Dask cluster, e.g. tcp://127.0.0.1:8786 (default: a local cluster)")
     parser.add_argument("--no-mujoco", action="store_true", help="our simulator only")
     parser.add_argument("--no-stability", action="store_true", help="skip the stability search")
     parser.add_argument("--cache", default=None, metavar="DIR",
@@ -59,7 +61,7 @@ def main(args) -> int:
 
     cache = None if args.no_cache else Path(args.cache or Path(tempfile.gettempdir()) / "compare-sweep-cache")
     results = run_sweep(
-        scenes, cache_dir=cache, jobs=jobs,
+        scenes, cache_dir=cache, jobs=jobs, scheduler=args.scheduler,
         mujoco=not args.no_mujoco, stability=not args.no_stability,
         progress=lambda total: tqdm(total=total, desc="sweep", unit="task", delay=2, file=sys.stderr))
     runtime = time.perf_counter() - start
