@@ -29,9 +29,11 @@ J = [1, r_x], M = diag(m, I). The damper is c / k times K, so each mode has zeta
                        exact motion: a bounce (compression damped, from touchdown to the deepest
                        point, t_c = arccos(zeta) / w_d; release undamped, t_r = pi / (2 w)) and a
                        small oscillation at rest (the half cycle down damped, the half up not)
-      semi-implicit,   a resting body past the limit oscillates at period 2, so it alternates
-      RK4              A_d and A_u: rho(A_u A_d) < 1; and rho(A_d), rho(A_u) <= 1 for the
-                       slow mode (both solved numerically on the exact maps)
+      semi-implicit,   a resting body past the limit oscillates at period 2: vc_y flips every
+      RK4              step, so A_d and A_u alternate, and it grows when A_u A_d has a real
+                       eigenvalue above 1 whose eigenvector keeps that pattern; and rho(A_d),
+                       rho(A_u) <= 1 (solved numerically on the exact maps). Semi-implicit Euler
+                       then lands on the Jury limit with zeta / 2: h w < 2 (sqrt(1 + zeta^2/4) - zeta/2)
 
 Friction (tanh law). Its rate is lambda_f = mu alpha Fn / m_t (1/s), m_t the smallest
 tangential effective mass (1/m_t = 1/m + r_y^2 / I at the angles where the point is lowest),
@@ -103,7 +105,7 @@ def _configurations(body) -> dict:
                 xs = ca * pts[[i, j], 0] - sa * pts[[i, j], 1]
                 stiff = sum(np.outer((1.0, x), (1.0, x)) for x in xs)
                 modes.append(float(np.max(np.linalg.eigvals(np.diag((1.0 / m, inv_i)) @ stiff).real)))
-    return {"modes": modes, "m_n": float(m_n.min()), "m_t": float(m_t.min()),
+    return {"modes": modes, "max_mode": float(max(modes)), "m_n": float(m_n.min()), "m_t": float(m_t.min()),
             "clearance": float(np.min(-ry_low)), "mass": m, "inertia": inertia,
             "turns_normal": bool(props.points_rotate)}
 
@@ -112,7 +114,7 @@ def contact_frequency(scene: Scene) -> tuple[float, float]:
     """(w rad/s, zeta) of the stiffest contact mode, or (0, 0) without contact."""
     if not scene.has("contact"):
         return 0.0, 0.0
-    w = math.sqrt(scene.contact.k * max(_configurations(scene.body)["modes"]))
+    w = math.sqrt(scene.contact.k * _configurations(scene.body)["max_mode"])
     return w, scene.contact.c * w / (2.0 * scene.contact.k)
 
 
@@ -132,44 +134,16 @@ def available_energy(scene: Scene) -> float:
     return max(0.0, e + cfg["mass"] * _gravity(scene) * (i.position[1] - cfg["clearance"]))
 
 
-@functools.lru_cache(maxsize=256)
-def first_impact(scene: Scene) -> dict:
-    """The first touchdown of the free flight from the initial state (exact: the COM's parabola
-    and a constant spin): the touching point, its normal speed v_n (m/s, into the ground), and
-    its normal and tangential effective masses m_n, m_t (kg) in that configuration. A point
-    that touches at t = 0 lands with its initial normal speed."""
-    props = mass_properties(scene.body)
-    i, g = scene.initial, _gravity(scene)
-    inv_i = 1.0 / props.inertia if props.rotates else 0.0
-
-    def lowest(t):
-        """(height m, lever r_x, r_y) of the lowest point at times t (T,) and its index."""
-        t = np.asarray(t, dtype=float)[:, None]
-        y = i.position[1] + i.velocity[1] * t - 0.5 * g * t * t
-        th = (i.angle + i.angular_velocity * t) if props.points_rotate else np.zeros_like(t)
-        c, s = np.cos(th), np.sin(th)
-        rx = c * props.points[:, 0] - s * props.points[:, 1]
-        ry = s * props.points[:, 0] + c * props.points[:, 1]
-        p = np.argmin(y + ry, axis=1)
-        rows = np.arange(len(p))
-        return (y + ry)[rows, p], rx[rows, p], ry[rows, p], p
-
-    t = np.arange(0.0, scene.duration + IMPACT_SEARCH_STEP, IMPACT_SEARCH_STEP)
-    hit = np.flatnonzero(lowest(t)[0] <= 0.0)
-    if len(hit) == 0:
-        return {"v_n": 0.0, "m_n": props.mass, "m_t": props.mass, "point": -1, "t": math.inf}
-    hi = float(t[hit[0]])
-    lo = hi - IMPACT_SEARCH_STEP if hit[0] else hi
-    for _ in range(60 if hit[0] else 0):  # bisection to the touchdown
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if lowest([mid])[0][0] <= 0.0 else (mid, hi)
-    _, rx, ry, p = (a[0] for a in lowest([hi]))
-    vcy = i.velocity[1] - g * hi + i.angular_velocity * rx
-    return {"v_n": max(0.0, -vcy), "m_n": 1.0 / (1.0 / props.mass + rx ** 2 * inv_i),
-            "m_t": 1.0 / (1.0 / props.mass + ry ** 2 * inv_i), "point": int(p), "t": hi}
+def normal_energy(scene: Scene) -> float:
+    """E_n (J): the energy that can reach a contact's normal (see the module docstring)."""
+    cfg = _configurations(scene.body)
+    i = scene.initial
+    e = 0.5 * cfg["mass"] * i.velocity[1] ** 2
+    if cfg["turns_normal"]:  # the spin reaches the normal only where a lever r_x can exist
+        e += 0.5 * cfg["inertia"] * i.angular_velocity ** 2
+    return max(0.0, e + cfg["mass"] * _gravity(scene) * (i.position[1] - cfg["clearance"]))
 
 
-IMPACT_SEARCH_STEP = 1e-4   # s: the free flight sampled this finely, then the touchdown bisected
 PROFILE_STEP = 1e-4         # of the unit oscillator's time w t: the profile to 1e-4 of a period
 
 
@@ -197,29 +171,32 @@ def peak_factor(zeta: float, law: str = "compression") -> float:
     return float(load_profile(zeta, law).max())
 
 
-@functools.lru_cache(maxsize=256)
 def impact(scene: Scene) -> dict:
-    """The first impact's load: peak normal load Fn (N) = v_n sqrt(k m_n) f(zeta_n) + m g,
-    zeta_n = c / (2 sqrt(k m_n)); the profile (N, every PROFILE_STEP / w_n s) and w_n (rad/s);
-    the point's tangential effective mass m_t (kg)."""
-    imp = first_impact(scene)
-    k, c = scene.contact.k, scene.contact.c
-    zeta_n = c / (2.0 * math.sqrt(k * imp["m_n"]))
-    weight = _configurations(scene.body)["mass"] * _gravity(scene)
-    profile = imp["v_n"] * math.sqrt(k * imp["m_n"]) * load_profile(zeta_n, scene.contact.damping_law) + weight
-    return {"peak": float(profile.max()), "profile": profile, "w_n": math.sqrt(k / imp["m_n"]),
-            "m_t": imp["m_t"]}
+    """The hardest impact energy allows: all of E_n into one point at the smallest normal
+    effective mass m_n, v_n = sqrt(2 E_n / m_n). Peak normal load Fn (N) = v_n sqrt(k m_n)
+    f(zeta_n) + m g = sqrt(2 k E_n) f(zeta_n) + m g, zeta_n = c / (2 sqrt(k m_n)); the load
+    profile (N, every PROFILE_STEP / w_n s) and w_n (rad/s)."""
+    return _impact(scene.body, normal_energy(scene), _gravity(scene), scene.contact)
+
+
+@functools.lru_cache(maxsize=256)
+def _impact(body, e_n: float, g: float, contact) -> dict:
+    cfg = _configurations(body)
+    k, c, m_n = contact.k, contact.c, cfg["m_n"]
+    zeta_n = c / (2.0 * math.sqrt(k * m_n))
+    profile = math.sqrt(2.0 * k * e_n) * load_profile(zeta_n, contact.damping_law) + cfg["mass"] * g
+    return {"peak": float(profile.max()), "profile": profile, "w_n": math.sqrt(k / m_n)}
 
 
 def peak_load(scene: Scene) -> float:
-    """The largest normal load (N) a contact point carries: the first impact's peak, or the weight."""
+    """The largest normal load (N) a contact point carries: the impact's peak, or the weight."""
     if not scene.has("contact"):
         return 0.0
     return max(impact(scene)["peak"], _configurations(scene.body)["mass"] * _gravity(scene))
 
 
 def held_impact_limit(scene: Scene, bound: float, rate_per_newton: float) -> float:
-    """The largest h (s) at which the first impact's load keeps h lambda > bound for fewer than
+    """The largest h (s) at which the impact's load keeps h lambda > bound for fewer than
     CHATTER_STEPS steps (lambda = rate_per_newton Fn, 1/s): a shorter excursion past the limit
     makes a few flips, bounded by the impact's impulse, not chatter (chatter.py). inf when no
     step makes it last that long."""
@@ -237,20 +214,16 @@ def held_impact_limit(scene: Scene, bound: float, rate_per_newton: float) -> flo
 
 
 def friction_rate(scene: Scene, load: float | None = None) -> float:
-    """lambda_f = mu Fn alpha / m_t (1/s) at the load Fn (N; default: the first impact's peak,
-    at that point's m_t; else the smallest m_t at a lowest point)."""
+    """lambda_f = mu Fn alpha / m_t (1/s) at the load Fn (N; default: the impact's peak), m_t
+    the smallest tangential effective mass at a lowest point."""
     if not scene.has("friction"):
         return 0.0
-    if load is None:
-        load, m_t = impact(scene)["peak"], impact(scene)["m_t"]
-    else:
-        m_t = _configurations(scene.body)["m_t"]
-    return scene.contact.mu * load * scene.contact.alpha / m_t
+    load = impact(scene)["peak"] if load is None else load
+    return scene.contact.mu * load * scene.contact.alpha / _configurations(scene.body)["m_t"]
 
 
 def rolling_rate(scene: Scene, load: float | None = None) -> float:
-    """lambda_r = mu_roll ROLL_SHARPNESS Fn / I (1/s) at the load Fn (N; default: the first
-    impact's peak)."""
+    """lambda_r = mu_roll ROLL_SHARPNESS Fn / I (1/s) at the load Fn (N; default: the impact's peak)."""
     if not scene.has("rolling_friction"):
         return 0.0
     fn = impact(scene)["peak"] if load is None else load
@@ -303,10 +276,18 @@ def linear_limit(method: str, zeta: float) -> float:
 
 @functools.lru_cache(maxsize=256)
 def period2_limit(method: str, zeta: float) -> float:
-    """hw limit of the compression law at rest: rho(A_u A_d) < 1, rho(A_d), rho(A_u) <= 1."""
+    """hw limit of the compression law at rest: rho(A_d), rho(A_u) <= 1, and no period-2 growth:
+    M = A_u A_d has no real eigenvalue above 1 whose eigenvector e alternates (v of e and of
+    A_d e of opposite sign: the damper then really acts every other step). For semi-implicit
+    Euler this lands on the Jury limit with zeta / 2: the damper works half the steps."""
     a_d = step_matrix(method, HW_GRID, zeta, damped=True)
     a_u = step_matrix(method, HW_GRID, zeta, damped=False)
-    rho = np.maximum(spectral_radius(a_u @ a_d) ** 0.5, np.maximum(spectral_radius(a_d), spectral_radius(a_u)))
+    lam, vec = np.linalg.eig(a_u @ a_d)
+    after = np.einsum("kij,kjm->kim", a_d, vec.real)       # A_d e for each eigenvector
+    alternating = vec.real[:, 1, :] * after[:, 1, :] < 0.0
+    grows = (np.abs(lam.imag) < RHO_TOLERANCE) & (lam.real > 1.0 + RHO_TOLERANCE) & alternating
+    rho = np.maximum(spectral_radius(a_d), spectral_radius(a_u))
+    rho = np.where(grows.any(axis=1), np.inf, rho)
     return first_growth(rho)
 
 
@@ -340,7 +321,7 @@ def contact_limit(scene: Scene, method: str) -> dict[str, float]:
         return {}
     k, c = scene.contact.k, scene.contact.c
     out = {}
-    for inv_m in sorted(set(round(x, 12) for x in _configurations(scene.body)["modes"]))[-1:]:
+    for inv_m in (_configurations(scene.body)["max_mode"],):
         w = math.sqrt(k * inv_m)
         zeta = c * w / (2.0 * k)
         if scene.contact.damping_law == "linear":
@@ -367,7 +348,7 @@ def limit_modes(scene: Scene, integrator: str | None = None) -> dict[str, float]
         if rest > 0.0:
             out["friction (at rest)"] = bound * cfg["m_t"] / (per_newton * rest)
         out[f"friction (at the impact, held {CHATTER_STEPS} steps)"] = held_impact_limit(
-            scene, bound, per_newton / impact(scene)["m_t"])
+            scene, bound, per_newton / cfg["m_t"])
     if scene.has("rolling_friction"):
         per_newton = scene.contact.mu_roll * ROLL_SHARPNESS / cfg["inertia"]
         if rest > 0.0:
@@ -381,6 +362,8 @@ def limits(scene: Scene, integrator: str | None = None) -> dict[str, float]:
     """The largest stable step (s) for each effect the scene lists that limits it."""
     out: dict[str, float] = {}
     for mode, h in limit_modes(scene, integrator).items():
+        if not math.isfinite(h):
+            continue
         effect = mode.split(" ")[0]
         out[effect] = min(out.get(effect, math.inf), h)
     return out
