@@ -1,8 +1,9 @@
 """Chatter: the instability that stays bounded. The one definition the whole harness uses.
 
 A run is *stable* when it neither blows up (integrators.is_healthy) nor chatters. It
-*chatters* at step i when, for one contact point that touches the ground (depth d > 0) over
-all of the last CHATTER_STEPS steps, its slip velocity vc_x = vx - omega r_y, or its normal
+*chatters* at step i when, for one contact point that touches the ground (depth d > 0) at
+every step, or every other step, of the last CHATTER_STEPS steps (a body hopping at period 2
+touches every other step), its slip velocity vc_x = vx - omega r_y, or its normal
 velocity vc_y = vy + omega r_x, has
 
   1. changed sign at every one of those steps (a step-to-step flip), each value above
@@ -46,8 +47,8 @@ NO_DECAY = 1.0 - 1e-3  # over CHATTER_STEPS: a stable mode |lambda| < 1 - 1.3e-4
                        # a limit cycle (constant amplitude) by round-off only
 
 # columns of the tracker `watch` (one row per contact point)
-PREV_SLIP, PREV_NORMAL, RUN_SLIP, RUN_NORMAL, START_SLIP, START_NORMAL, FLAG = range(7)
-WATCH_COLUMNS = 7
+PREV_SLIP, PREV_NORMAL, RUN_SLIP, RUN_NORMAL, START_SLIP, START_NORMAL, FLAG, TOUCHED = range(8)
+WATCH_COLUMNS = 8
 SLIP, NORMAL = 1.0, 2.0    # watch[p, FLAG]: which velocity of point p chattered
 QUANTITY = {SLIP: "slip velocity", NORMAL: "normal velocity"}
 
@@ -58,6 +59,8 @@ def _flips(watch, p, v, prev_col, run_col, start_col, saturated):
     (saturated: the size from which condition 2 holds without the trend; inf: never)."""
     prev = watch[p, prev_col]
     watch[p, prev_col] = v
+    # the floor first: at rest it is always below, in motion always above, so the branch is
+    # predictable (a sign test first would guess wrong on half the steps of round-off noise)
     if abs(v) <= FLIP_FLOOR or abs(prev) <= FLIP_FLOOR or v * prev >= 0.0:
         watch[p, run_col] = 0.0
         return False
@@ -66,7 +69,7 @@ def _flips(watch, p, v, prev_col, run_col, start_col, saturated):
     if run == 1.0:
         watch[p, start_col] = abs(v)
         return False
-    if run % CHATTER_STEPS == 1.0:  # a window of CHATTER_STEPS flips since the start amplitude
+    if int(run) % CHATTER_STEPS == 1:  # a window of CHATTER_STEPS flips since the start amplitude
         start = watch[p, start_col]
         if abs(v) >= NO_DECAY * start or min(abs(v), start) >= saturated:
             return True
@@ -74,7 +77,7 @@ def _flips(watch, p, v, prev_col, run_col, start_col, saturated):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def chattering_point(model, points, z, watch):
     """Update the tracker watch (n, WATCH_COLUMNS) with state z after a step; returns the
     index of a contact point that chatters (its FLAG set to SLIP or NORMAL), or -1."""
@@ -86,7 +89,10 @@ def chattering_point(model, points, z, watch):
     for p in range(points.shape[0]):
         lx, ly = points[p, 0], points[p, 1]
         rx, ry = cs * lx - sn * ly, sn * lx + cs * ly
-        if z[1] + ry >= 0.0:  # not touching: no contact force, nothing to flip
+        touching = z[1] + ry < 0.0
+        touched = watch[p, TOUCHED] > 0.0
+        watch[p, TOUCHED] = 1.0 if touching else 0.0
+        if not touching and not touched:  # two steps in the air: no contact force, nothing flips
             watch[p, PREV_SLIP] = 0.0
             watch[p, PREV_NORMAL] = 0.0
             watch[p, RUN_SLIP] = 0.0
