@@ -140,10 +140,11 @@ def simulate(scene: Scene, external=None) -> Trajectory:
 class Stepper:
     """A simulation advanced a few steps at a time with a chosen applied force (the game's loop).
 
-    state: [x, y, theta, vx, vy, omega]; steps: steps taken so far.
+    state: [x, y, theta, vx, vy, omega]; steps: steps taken so far. watch_chatter: stop on
+    chatter (custom_sim/chatter.py) as on a blow-up; False only for a loop that must go on.
     """
 
-    def __init__(self, scene: Scene):
+    def __init__(self, scene: Scene, watch_chatter: bool = True):
         self.scene = scene
         self.props = mass_properties(scene.body)
         self.model, self.points = build_model(scene, self.props)
@@ -152,7 +153,7 @@ class Stepper:
         self.steps = 0
         self.counters = np.zeros(4, dtype=np.int64)
         self.guard = blowup_guard(scene, self.props, self.state, applied_input=True)
-        self.watch = new_watch(self.props)
+        self.watch = new_watch(self.props) if watch_chatter else np.empty((0, WATCH_COLUMNS))
         self._none = np.empty((0, 6))
 
     def advance(self, n: int, force=(0.0, 0.0, 0.0)) -> np.ndarray:

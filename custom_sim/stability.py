@@ -345,16 +345,18 @@ def limit_modes(scene: Scene, integrator: str | None = None) -> dict[str, float]
     rest = cfg["mass"] * _gravity(scene)
     if scene.has("friction"):
         per_newton = scene.contact.mu * scene.contact.alpha
-        if rest > 0.0:
+        if rest * per_newton > 0.0:
             out["friction (at rest)"] = bound * cfg["m_t"] / (per_newton * rest)
-        out[f"friction (at the impact, held {CHATTER_STEPS} steps)"] = held_impact_limit(
-            scene, bound, per_newton / cfg["m_t"])
+        if per_newton > 0.0:
+            out[f"friction (at the impact, held {CHATTER_STEPS} steps)"] = held_impact_limit(
+                scene, bound, per_newton / cfg["m_t"])
     if scene.has("rolling_friction"):
         per_newton = scene.contact.mu_roll * ROLL_SHARPNESS / cfg["inertia"]
-        if rest > 0.0:
+        if rest * per_newton > 0.0:
             out["rolling_friction (at rest)"] = bound / (per_newton * rest)
-        out[f"rolling_friction (at the impact, held {CHATTER_STEPS} steps)"] = held_impact_limit(
-            scene, bound, per_newton)
+        if per_newton > 0.0:
+            out[f"rolling_friction (at the impact, held {CHATTER_STEPS} steps)"] = held_impact_limit(
+                scene, bound, per_newton)
     return out
 
 

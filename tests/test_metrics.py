@@ -101,7 +101,7 @@ def test_tolerance_terms_follow_the_physics():
     e_c = tolerance.compression_restitution(60 / (2 * math.sqrt(0.5e4)))
     assert tol.terms["damping law"] == pytest.approx(0.55 * e_c**2)
     v_max = math.sqrt(1.0 + 2 * 9.81 * 0.55)  # sideways 1 m/s and the fall's speed
-    assert tol.terms["switching"] == pytest.approx(2 * v_max * 1e-4)
+    assert tol.terms["switching"] == pytest.approx(2 * v_max * point.dt)
     assert tol.terms["impedance"] == pytest.approx(1e-4 * (v_max * 2.5 + 0.55))
     assert "impact friction" not in tol.terms  # a point's contact does not turn
     assert tol.checked and not tolerance.derive(point, "seed").checked
