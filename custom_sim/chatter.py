@@ -61,7 +61,9 @@ def _flips(watch, p, v, prev_col, run_col, start_col, saturated):
     watch[p, prev_col] = v
     # the floor first: at rest it is always below, in motion always above, so the branch is
     # predictable (a sign test first would guess wrong on half the steps of round-off noise)
-    if abs(v) <= FLIP_FLOOR or abs(prev) <= FLIP_FLOOR or v * prev >= 0.0:
+    # (compared, not multiplied: a resting body's velocities decay to 1e-200 and below, and
+    # their product would be a subnormal number, a hundred times slower to compute)
+    if abs(v) <= FLIP_FLOOR or abs(prev) <= FLIP_FLOOR or (v > 0.0) == (prev > 0.0):
         watch[p, run_col] = 0.0
         return False
     run = watch[p, run_col] + 1.0

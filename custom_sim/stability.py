@@ -41,7 +41,8 @@ at the largest load Fn a point carries: at rest m g (the whole weight on one poi
 impact the peak of k d + c max(0, -vc_y) for the impact speed v_n at the smallest normal
 effective mass m_n: Fn_peak = v_n sqrt(k m_n) f(zeta_n) + m g, f the peak of x + 2 zeta x' of
 the unit oscillator (f(0) = 1), with m_n v_n^2 / 2 = E_n, the energy that can reach the
-contact normal: E(0) minus the body's lowest pose minus the horizontal kinetic energy m vx^2/2
+contact normal: E(0) minus the body's lowest reachable pose (a resting box cannot tip onto a lower
+face without the energy to lift its COM over the corner) minus the horizontal kinetic energy m vx^2/2
 (which only friction changes, and friction only takes it away: an estimate, not a bound,
 for a body that could trip over its own slide), and minus the spin's I omega^2 / 2 for a disk
 or a point (whose contact normal passes through the COM: no lever turns spin into a push). Then h lambda_f < 2 (both Euler methods:
@@ -107,6 +108,7 @@ def _configurations(body) -> dict:
                 modes.append(float(np.max(np.linalg.eigvals(np.diag((1.0 / m, inv_i)) @ stiff).real)))
     return {"modes": modes, "max_mode": float(max(modes)), "m_n": float(m_n.min()), "m_t": float(m_t.min()),
             "clearance": float(np.min(-ry_low)), "mass": m, "inertia": inertia,
+            "support": -ry_low, "angles": th,
             "turns_normal": bool(props.points_rotate)}
 
 
@@ -134,6 +136,34 @@ def available_energy(scene: Scene) -> float:
     return max(0.0, e + cfg["mass"] * _gravity(scene) * (i.position[1] - cfg["clearance"]))
 
 
+def reachable_clearance(scene: Scene) -> float:
+    """The least COM height (m) over a lowest point at the angles the body can turn to: those
+    connected to its initial angle at which resting on the lowest point, s(theta), needs no more
+    energy than it has (m g s <= E). A box at rest on one face cannot reach a lower one."""
+    cfg = _configurations(scene.body)
+    g = _gravity(scene)
+    support, angles = cfg["support"], cfg["angles"]
+    if len(support) == 1 or g == 0.0:
+        return float(support.min())
+    i = scene.initial
+    m = cfg["mass"]
+    top = i.position[1] + (0.5 * m * (i.velocity[0] ** 2 + i.velocity[1] ** 2)
+                           + 0.5 * cfg["inertia"] * i.angular_velocity ** 2) / (m * g)
+    start = int(np.argmin(np.abs(np.angle(np.exp(1j * (angles - i.angle))))))
+    # a body that starts touching, pressed in by d, stands at its support less d: the spring
+    # gives back k d^2 / 2 at most, far below any barrier a step of the angle grid sees
+    top = max(top, float(support[start]))
+    n, best = len(support), float(support[start])
+    for step in (1, -1):
+        j = start
+        for _ in range(n):
+            j = (j + step) % n
+            if support[j] > top:
+                break
+            best = min(best, float(support[j]))
+    return best
+
+
 def normal_energy(scene: Scene) -> float:
     """E_n (J): the energy that can reach a contact's normal (see the module docstring)."""
     cfg = _configurations(scene.body)
@@ -141,7 +171,7 @@ def normal_energy(scene: Scene) -> float:
     e = 0.5 * cfg["mass"] * i.velocity[1] ** 2
     if cfg["turns_normal"]:  # the spin reaches the normal only where a lever r_x can exist
         e += 0.5 * cfg["inertia"] * i.angular_velocity ** 2
-    return max(0.0, e + cfg["mass"] * _gravity(scene) * (i.position[1] - cfg["clearance"]))
+    return max(0.0, e + cfg["mass"] * _gravity(scene) * (i.position[1] - reachable_clearance(scene)))
 
 
 PROFILE_STEP = 1e-4         # of the unit oscillator's time w t: the profile to 1e-4 of a period
