@@ -54,35 +54,13 @@ QUANTITY = {SLIP: "slip velocity", NORMAL: "normal velocity"}
 
 
 @njit(cache=True, inline="always")
-def _flips(watch, p, v, prev_col, run_col, start_col, saturated):
-    """Advance point p's run of sign flips with its new velocity v; True when it chatters
-    (saturated: the size from which condition 2 holds without the trend; inf: never)."""
-    prev = watch[p, prev_col]
-    watch[p, prev_col] = v
-    # the floor first: at rest it is always below, in motion always above, so the branch is
-    # predictable (a sign test first would guess wrong on half the steps of round-off noise)
-    # (compared, not multiplied: a resting body's velocities decay to 1e-200 and below, and
-    # their product would be a subnormal number, a hundred times slower to compute)
-    if abs(v) <= FLIP_FLOOR or abs(prev) <= FLIP_FLOOR or (v > 0.0) == (prev > 0.0):
-        watch[p, run_col] = 0.0
-        return False
-    run = watch[p, run_col] + 1.0
-    watch[p, run_col] = run
-    if run == 1.0:
-        watch[p, start_col] = abs(v)
-        return False
-    if int(run) % CHATTER_STEPS == 1:  # a window of CHATTER_STEPS flips since the start amplitude
-        start = watch[p, start_col]
-        if abs(v) >= NO_DECAY * start or min(abs(v), start) >= saturated:
-            return True
-        watch[p, start_col] = abs(v)   # decaying: a stable mode; watch the next window
-    return False
-
-
-@njit(cache=True, inline="always")
 def chattering_point(model, points, z, watch):
     """Update the tracker watch (n, WATCH_COLUMNS) with state z after a step; returns the
-    index of a contact point that chatters (its FLAG set to SLIP or NORMAL), or -1."""
+    index of a contact point that chatters (its FLAG set to SLIP or NORMAL), or -1.
+
+    Per point and quantity q (0: slip, 1: normal): the previous value (column q), the run of
+    flips (2 + q) and the size at the start of the current window (4 + q). Written as one loop
+    without a helper function: a call per quantity cost 100 ns a step, the loop 3 ns."""
     theta, vx, vy, om = z[2], z[3], z[4], z[5]
     saturated = 1.0 / model.alpha if model.friction else math.inf
     cs, sn = 1.0, 0.0
@@ -95,15 +73,29 @@ def chattering_point(model, points, z, watch):
         touched = watch[p, TOUCHED] > 0.0
         watch[p, TOUCHED] = 1.0 if touching else 0.0
         if not touching and not touched:  # two steps in the air: no contact force, nothing flips
-            watch[p, PREV_SLIP] = 0.0
-            watch[p, PREV_NORMAL] = 0.0
-            watch[p, RUN_SLIP] = 0.0
-            watch[p, RUN_NORMAL] = 0.0
+            for c in (PREV_SLIP, PREV_NORMAL, RUN_SLIP, RUN_NORMAL):
+                watch[p, c] = 0.0
             continue
-        if _flips(watch, p, vx - om * ry, PREV_SLIP, RUN_SLIP, START_SLIP, saturated):
-            watch[p, FLAG] = SLIP
-            return p
-        if _flips(watch, p, vy + om * rx, PREV_NORMAL, RUN_NORMAL, START_NORMAL, math.inf):
-            watch[p, FLAG] = NORMAL
-            return p
+        for q in range(2):
+            v = vx - om * ry if q == 0 else vy + om * rx
+            prev = watch[p, PREV_SLIP + q]
+            watch[p, PREV_SLIP + q] = v
+            # the floor first: at rest it is always below, in motion always above, so the
+            # branch is predictable; signs compared, not multiplied: a resting body's
+            # velocities decay to 1e-200 and below, and their product would be subnormal
+            if abs(v) <= FLIP_FLOOR or abs(prev) <= FLIP_FLOOR or (v > 0.0) == (prev > 0.0):
+                watch[p, RUN_SLIP + q] = 0.0
+                continue
+            run = watch[p, RUN_SLIP + q] + 1.0
+            watch[p, RUN_SLIP + q] = run
+            if run == 1.0:
+                watch[p, START_SLIP + q] = abs(v)
+                continue
+            if int(run) % CHATTER_STEPS == 1:  # a window of CHATTER_STEPS flips since its start
+                start = watch[p, START_SLIP + q]
+                # condition 2: not decayed, or (the slip) saturated at both ends
+                if abs(v) >= NO_DECAY * start or (q == 0 and min(abs(v), start) >= saturated):
+                    watch[p, FLAG] = SLIP if q == 0 else NORMAL
+                    return p
+                watch[p, START_SLIP + q] = abs(v)   # decaying: a stable mode; watch the next window
     return -1
