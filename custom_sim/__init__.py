@@ -6,12 +6,13 @@ clear_if_sources_changed()
 from .bodies import MassProperties, mass_properties  # noqa: E402
 from .integrators import INTEGRATORS, Integrator
 from .scene import Scene, SceneError, load_scene, parse_scene
-from .simulate import SimulationDiverged, Stepper, simulate
+from .simulate import SimulationChattered, SimulationDiverged, Stepper, simulate
 from .stability import stable_step
 from .trajectory import CsvError, Trajectory, read_csv, write_csv
 
 __all__ = [
-    "CsvError", "INTEGRATORS", "Integrator", "MassProperties", "Scene", "SceneError", "SimulationDiverged",
+    "CsvError", "INTEGRATORS", "Integrator", "MassProperties", "Scene", "SceneError", "SimulationChattered",
+    "SimulationDiverged",
     "Stepper", "Trajectory", "load_scene", "mass_properties", "parse_scene", "read_csv",
     "simulate", "stable_step", "write_csv",
 ]

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from .chatter import chattering_point
 from .forces import acceleration_jacobian, accelerations
 
 EXPLICIT_EULER, SEMI_IMPLICIT_EULER, IMPLICIT_EULER, RK4 = 0, 1, 2, 3
@@ -217,13 +218,17 @@ def first_unhealthy(states, guard):
 
 
 @njit(cache=True)
-def integrate(model, points, z, h, n, method, ext, out, counters, guard):
+def integrate(model, points, z, h, n, method, ext, out, counters, guard, watch):
     """Advance z by n steps of size h (s), writing the state after step i to out[i] when
     out has n rows (out with 0 rows records nothing). ext: (1, 3) constant or (n, 3) per
-    step applied (Fx, Fy, tau). Returns -1, or the 1-based step at which the state left the
-    healthy range (see is_healthy), with z left at that state."""
+    step applied (Fx, Fy, tau). watch: the chatter tracker (contact points, WATCH_COLUMNS),
+    carried from call to call (0 rows: chatter is not watched). Returns -1, or the 1-based
+    step at which the state left the healthy range (see is_healthy) or a contact point
+    started to chatter (chatter.py; that point's row of watch is flagged), with z left at
+    that state."""
     work = np.zeros((18, 6))
     record = out.shape[0] == n
+    watching = watch.shape[0] == points.shape[0] and model.contact
     row = 0
     per_step = ext.shape[0] > 1
     for i in range(n):
@@ -242,5 +247,7 @@ def integrate(model, points, z, h, n, method, ext, out, counters, guard):
             for j in range(6):
                 out[i, j] = z[j]
         if not is_healthy(z, guard):
+            return i + 1
+        if watching and chattering_point(model, points, z, watch) >= 0:
             return i + 1
     return -1

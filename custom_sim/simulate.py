@@ -10,6 +10,7 @@ import time
 import numpy as np
 
 from .bodies import mass_properties
+from .chatter import FLAG, QUANTITY, WATCH_COLUMNS
 from .energy import energy_parts
 from .integrators import (FORCE_EVALS, INTEGRATORS, NEWTON_FAILS, NEWTON_ITERS, NEWTON_MAX,
                           integrate)
@@ -48,12 +49,46 @@ class SimulationDiverged(RuntimeError):
     def __init__(self, scene: Scene, integrator: str, dt: float, step: int, state: np.ndarray):
         self.scene, self.integrator, self.dt, self.step, self.state = scene, integrator, dt, step, state
         self.stable_dt = stable_step(scene, integrator)
-        names = ("x", "y", "theta", "vx", "vy", "omega")
-        st = ", ".join(f"{n}={v:.4g}" for n, v in zip(names, state))
-        super().__init__(
-            f"{scene.name}: {integrator} diverged at step {step} (t = {step * dt:.6g} s) with dt = {dt:g} s; "
-            f"state {st}. Theory gives a stable step below {self.stable_dt:.3g} s for this scene "
-            f"(see custom_sim/stability.py).")
+        super().__init__(f"{scene.name}: {integrator} {self.what()} at step {step} (t = {step * dt:.6g} s) "
+                         f"with dt = {dt:g} s; state {state_text(state)}. Theory gives a stable step "
+                         f"below {self.stable_dt:.3g} s for this scene (see custom_sim/stability.py).")
+
+    def what(self) -> str:
+        return "diverged"
+
+
+class SimulationChattered(SimulationDiverged):
+    """A contact point chattered (custom_sim/chatter.py): a bounded instability, reported like a
+    blow-up. point: the contact point's index in mass_properties(scene.body).points;
+    quantity: "slip velocity" or "normal velocity"."""
+
+    def __init__(self, scene: Scene, integrator: str, dt: float, step: int, state: np.ndarray,
+                 point: int, quantity: str):
+        self.point, self.quantity = point, quantity
+        super().__init__(scene, integrator, dt, step, state)
+
+    def what(self) -> str:
+        return f"chattered (contact point {self.point}: its {self.quantity} flips sign every step)"
+
+
+def state_text(state) -> str:
+    names = ("x", "y", "theta", "vx", "vy", "omega")
+    return ", ".join(f"{n}={v:.4g}" for n, v in zip(names, state))
+
+
+def new_watch(props) -> np.ndarray:
+    """A fresh chatter tracker for the body's contact points (see chatter.py)."""
+    return np.zeros((len(props.points), WATCH_COLUMNS))
+
+
+def failure(scene: Scene, step: int, state: np.ndarray, watch: np.ndarray) -> SimulationDiverged:
+    """The exception for a run that integrate stopped at `step`: chatter if a point is flagged."""
+    flagged = np.flatnonzero(watch[:, FLAG]) if len(watch) else ()
+    if len(flagged):
+        p = int(flagged[0])
+        return SimulationChattered(scene, scene.integrator, scene.dt, step, state, p,
+                                   QUANTITY[float(watch[p, FLAG])])
+    return SimulationDiverged(scene, scene.integrator, scene.dt, step, state)
 
 
 def _external(external, n: int) -> np.ndarray:
@@ -69,7 +104,8 @@ def _external(external, n: int) -> np.ndarray:
 
 def simulate(scene: Scene, external=None) -> Trajectory:
     """Run `scene` for its duration with its integrator; external = applied (Fx N, Fy N, tau N m),
-    constant (3,) or per step (steps, 3). Raises SimulationDiverged if the state blows up."""
+    constant (3,) or per step (steps, 3). Raises SimulationDiverged if the state blows up,
+    SimulationChattered (a SimulationDiverged) if a contact point chatters."""
     method = INTEGRATORS[scene.integrator]
     props = mass_properties(scene.body)
     model, points = build_model(scene, props)
@@ -80,13 +116,14 @@ def simulate(scene: Scene, external=None) -> Trajectory:
     out[0] = z
     counters = np.zeros(4, dtype=np.int64)
     guard = blowup_guard(scene, props, z, applied_input=bool(np.any(ext != 0.0)))
+    watch = new_watch(props)
     # compile (or load from cache) before timing: a run of zero steps
-    integrate(model, points, z.copy(), scene.dt, 0, method.code, ext, out[1:1], counters, guard)
+    integrate(model, points, z.copy(), scene.dt, 0, method.code, ext, out[1:1], counters, guard, watch)
     start = time.perf_counter()
-    failed = integrate(model, points, z, scene.dt, n, method.code, ext, out[1:], counters, guard)
+    failed = integrate(model, points, z, scene.dt, n, method.code, ext, out[1:], counters, guard, watch)
     wall = time.perf_counter() - start
     if failed >= 0:
-        raise SimulationDiverged(scene, scene.integrator, scene.dt, int(failed), z.copy())
+        raise failure(scene, int(failed), z.copy(), watch)
     ke, pe, ce = energy_parts(scene, props, out)
     return Trajectory(
         t=np.arange(n + 1) * scene.dt,
@@ -103,10 +140,11 @@ def simulate(scene: Scene, external=None) -> Trajectory:
 class Stepper:
     """A simulation advanced a few steps at a time with a chosen applied force (the game's loop).
 
-    state: [x, y, theta, vx, vy, omega]; steps: steps taken so far.
+    state: [x, y, theta, vx, vy, omega]; steps: steps taken so far. watch_chatter: stop on
+    chatter (custom_sim/chatter.py) as on a blow-up; False only for a loop that must go on.
     """
 
-    def __init__(self, scene: Scene):
+    def __init__(self, scene: Scene, watch_chatter: bool = True):
         self.scene = scene
         self.props = mass_properties(scene.body)
         self.model, self.points = build_model(scene, self.props)
@@ -115,19 +153,20 @@ class Stepper:
         self.steps = 0
         self.counters = np.zeros(4, dtype=np.int64)
         self.guard = blowup_guard(scene, self.props, self.state, applied_input=True)
+        self.watch = new_watch(self.props) if watch_chatter else np.empty((0, WATCH_COLUMNS))
         self._none = np.empty((0, 6))
 
     def advance(self, n: int, force=(0.0, 0.0, 0.0)) -> np.ndarray:
         """Take n steps with the applied (Fx N, Fy N, tau N m) held constant; returns the state."""
         ext = np.asarray(force, dtype=np.float64).reshape(1, 3)
         failed = integrate(self.model, self.points, self.state, self.scene.dt, n, self.method.code,
-                           ext, self._none, self.counters, self.guard)
+                           ext, self._none, self.counters, self.guard, self.watch)
         if failed >= 0:
-            raise SimulationDiverged(self.scene, self.scene.integrator, self.scene.dt,
-                                     self.steps + int(failed), self.state.copy())
+            raise failure(self.scene, self.steps + int(failed), self.state.copy(), self.watch)
         self.steps += n
         return self.state
 
     def reset(self, state) -> None:
         self.state = np.array(state, dtype=np.float64)
+        self.watch[:] = 0.0
         self.steps = 0

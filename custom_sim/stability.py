@@ -1,71 +1,428 @@
-"""The largest stable step by linear theory, for the divergence message and the reports.
+"""The largest stable step by theory, effect by effect: which effect a step violates.
 
-Near a contact the body is an oscillator x'' = -wn^2 x - 2 zeta wn x' with wn = sqrt(k / m_eff)
-(m_eff the smallest effective mass at a contact point) and zeta = c / (2 sqrt(k m_eff)).
-Each method's amplification matrix has spectral radius < 1 when (derived for each):
+    limits(scene, integrator) -> {"contact": h, "friction": h, "rolling_friction": h}   (s; inf: none)
+    stable_step(scene, integrator) = min(limits)
+    limit_modes(scene, integrator) -> every mode's limit, each with what sets it
 
-    explicit Euler       |1 + h lambda| < 1 gives h < 2 zeta / wn for damping both ways; but per
-                         step the oscillator's energy grows by 1 + (wn h)^2 while undamped and
-                         by 1 - 2 zeta wn h + (wn h)^2 while damped, and the compression law damps
-                         half the cycle (the linear law stops at its clamp): h < zeta / wn
-    semi-implicit Euler  det = 1 - 2 zeta wn h, trace = 2 - (wn h)^2 - 2 zeta wn h, Jury test:
-                         h wn < 2 (sqrt(1 + zeta^2) - zeta)                 (2 without damping)
-    implicit Euler       every h
-    RK4                  h |lambda| < about 2.8 on the imaginary axis       h wn < 2.8
+"Stable" means what custom_sim/chatter.py defines: no blow-up and no chatter. Each effect
+adds a stiff mode near a contact; each limit is the step at which that mode's amplification
+reaches 1, for the method's one-step map (or, for a piecewise law, the map over a cycle).
 
-The tanh friction adds a real rate lambda_f = mu Fn alpha / m_t (m_t the tangential effective
-mass) with Fn ~ m g at rest: explicit and semi-implicit Euler need h lambda_f < 2, RK4 < 2.78.
+Contact (spring k and damper c at the points that touch). The modes are those of the body on
+one touching point (all angles at which it is the lowest point) or on two (a support edge
+level with the ground): w^2 the eigenvalues of M^-1 K in (y, theta), K = k sum J^T J with
+J = [1, r_x], M = diag(m, I). The damper is c / k times K, so each mode has zeta = c w / (2 k)
+(one point: zeta = c / (2 sqrt(k m_eff)), 1/m_eff = 1/m + r_x^2 / I). The stiffest mode binds.
+
+  linear law (Kelvin-Voigt, damps both ways): a linear oscillator while touching; a bounce is
+    the same map until the clamp lets go, so bounce and rest share the limit
+      explicit Euler   |1 + h lambda|^2 = 1 - 2 zeta w h + (w h)^2 < 1:   h < 2 zeta / w = c / k
+                       (the per-bounce energy balance below gives the same, to first order)
+      semi-implicit    Jury test on the 2 x 2 map: h w < 2 (sqrt(1 + zeta^2) - zeta)
+      RK4              |R(h lambda)| < 1, R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24, solved numerically
+  compression law (damps only while a point moves into the ground): the map switches between
+    A_d (damped) and A_u (undamped) by the sign of vc_y at the step's start
+      explicit Euler   grows by 1 + (w h)^2 per step undamped: only a cycle's energy balance
+                       can be stable. Per step, with E = v^2 + w^2 x^2 and a = -w^2 x - 2 zeta w v s,
+                       E1 - E0 = -4 zeta w h s v^2 + h^2 (a^2 + w^2 v^2), so over a cycle
+                       h < 4 zeta w int(s v^2 dt) / int(a^2 + w^2 v^2 dt), integrated along the
+                       exact motion: a bounce (compression damped, from touchdown to the deepest
+                       point, t_c = arccos(zeta) / w_d; release undamped, t_r = pi / (2 w)) and a
+                       small oscillation at rest (the half cycle down damped, the half up not)
+      semi-implicit,   a resting body past the limit oscillates at period 2: vc_y flips every
+      RK4              step, so A_d and A_u alternate, and it grows when A_u A_d has a real
+                       eigenvalue above 1 whose eigenvector keeps that pattern; and rho(A_d),
+                       rho(A_u) <= 1 (solved numerically on the exact maps). Semi-implicit Euler
+                       then lands on the Jury limit with zeta / 2: h w < 2 (sqrt(1 + zeta^2/4) - zeta/2)
+
+Friction (tanh law). Its rate is lambda_f = mu alpha Fn / m_t (1/s), m_t the smallest
+tangential effective mass (1/m_t = 1/m + r_y^2 / I at the angles where the point is lowest),
+at the largest load Fn a point carries: at rest m g (the whole weight on one point), at an
+impact the peak of k d + c max(0, -vc_y) for the impact speed v_n at the smallest normal
+effective mass m_n: Fn_peak = v_n sqrt(k m_n) f(zeta_n) + m g, f the peak of x + 2 zeta x' of
+the unit oscillator (f(0) = 1), with m_n v_n^2 / 2 = E_n, the energy that can reach the
+contact normal: E(0) minus the body's lowest reachable pose (a resting box cannot tip onto a lower
+face without the energy to lift its COM over the corner) minus the horizontal kinetic energy m vx^2/2
+(which only friction changes, and friction only takes it away: an estimate, not a bound,
+for a body that could trip over its own slide), and minus the spin's I omega^2 / 2 for a disk
+or a point (whose contact normal passes through the COM: no lever turns spin into a push). Then h lambda_f < 2 (both Euler methods:
+|1 - h lambda| < 1) and < 2.785 (RK4 on the negative real axis). Rolling resistance
+(mu_roll Fn tanh(ROLL_SHARPNESS omega)): lambda_r = mu_roll ROLL_SHARPNESS Fn / I, same bounds.
+
+Implicit Euler's map (1 - h J)^-1 is contractive for every h: no limit.
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
-from .bodies import mass_properties, min_effective_mass
+from .bodies import mass_properties
+from .chatter import CHATTER_STEPS
+from .forces import ROLL_SHARPNESS
 from .scene import Scene
 
-RK4_IMAGINARY_LIMIT = 2.8   # h |lambda| on the imaginary axis (2 sqrt 2 = 2.83)
-RK4_REAL_LIMIT = 2.78       # h |lambda| on the negative real axis
+RK4_REAL_LIMIT = 2.785      # h |lambda| on the negative real axis: R(-2.785) = 1
+EULER_REAL_LIMIT = 2.0      # |1 - h lambda| < 1
+ANGLE_SAMPLES = 3600        # angles at which the lowest point is found (0.1 degree apart)
+RHO_TOLERANCE = 1e-12       # an undamped symplectic map has rho = 1 to round-off: not growth
+
+
+# ---------------------------------------------------------------------------------------
+# The body's contact configurations
+
+
+@functools.lru_cache(maxsize=64)
+def _configurations(body) -> dict:
+    """Normal modes w^2 / k (1/kg) of the body on its lowest point(s), the smallest normal and
+    tangential effective masses (kg) at a lowest point, and the COM's least height above its
+    lowest point (m)."""
+    props = mass_properties(body)
+    m, inertia, pts = props.mass, props.inertia, props.points
+    inv_i = 1.0 / inertia if props.rotates else 0.0
+    if props.points_rotate:
+        th = np.linspace(0.0, 2.0 * np.pi, ANGLE_SAMPLES, endpoint=False)
+    else:
+        th = np.zeros(1)
+    c, s = np.cos(th)[:, None], np.sin(th)[:, None]
+    rx, ry = c * pts[:, 0] - s * pts[:, 1], s * pts[:, 0] + c * pts[:, 1]   # (angles, points)
+    low = np.argmin(ry, axis=1)
+    rx_low, ry_low = rx[np.arange(len(th)), low], ry[np.arange(len(th)), low]
+    m_n = 1.0 / (1.0 / m + rx_low ** 2 * inv_i)
+    m_t = 1.0 / (1.0 / m + ry_low ** 2 * inv_i)
+    modes = list(1.0 / m_n)
+    # two points level and lowest: the angle that makes their edge horizontal
+    for i in range(len(pts)):
+        for j in range(i + 1, len(pts)):
+            d = pts[j] - pts[i]
+            if not props.points_rotate or np.hypot(*d) < 1e-12:
+                continue
+            for a in (-math.atan2(d[1], d[0]), math.pi - math.atan2(d[1], d[0])):
+                ca, sa = math.cos(a), math.sin(a)
+                y = sa * pts[:, 0] + ca * pts[:, 1]
+                if y[i] - y.min() > 1e-12 * (1 + abs(y.min())):
+                    continue
+                xs = ca * pts[[i, j], 0] - sa * pts[[i, j], 1]
+                stiff = sum(np.outer((1.0, x), (1.0, x)) for x in xs)
+                modes.append(float(np.max(np.linalg.eigvals(np.diag((1.0 / m, inv_i)) @ stiff).real)))
+    return {"modes": modes, "max_mode": float(max(modes)), "m_n": float(m_n.min()), "m_t": float(m_t.min()),
+            "clearance": float(np.min(-ry_low)), "mass": m, "inertia": inertia,
+            "support": -ry_low, "angles": th,
+            "turns_normal": bool(props.points_rotate)}
 
 
 def contact_frequency(scene: Scene) -> tuple[float, float]:
-    """(wn rad/s, zeta) of the stiffest contact mode, or (0, 0) without contact."""
+    """(w rad/s, zeta) of the stiffest contact mode, or (0, 0) without contact."""
     if not scene.has("contact"):
         return 0.0, 0.0
-    m_eff = min_effective_mass(mass_properties(scene.body))
-    k, c = scene.contact.k, scene.contact.c
-    return math.sqrt(k / m_eff), c / (2.0 * math.sqrt(k * m_eff))
+    w = math.sqrt(scene.contact.k * _configurations(scene.body)["max_mode"])
+    return w, scene.contact.c * w / (2.0 * scene.contact.k)
 
 
-def friction_rate(scene: Scene) -> float:
-    """lambda_f = mu m g alpha / m_t (1/s): the stiff rate of the tanh law at rest."""
+# ---------------------------------------------------------------------------------------
+# Loads
+
+
+def _gravity(scene: Scene) -> float:
+    return scene.g if scene.has("gravity") else 0.0
+
+
+def available_energy(scene: Scene) -> float:
+    """E(0) above the body's lowest pose (J): kinetic plus m g (y - least COM height)."""
+    cfg = _configurations(scene.body)
+    i = scene.initial
+    e = 0.5 * cfg["mass"] * (i.velocity[0] ** 2 + i.velocity[1] ** 2) + 0.5 * cfg["inertia"] * i.angular_velocity ** 2
+    return max(0.0, e + cfg["mass"] * _gravity(scene) * (i.position[1] - cfg["clearance"]))
+
+
+def reachable_clearance(scene: Scene) -> float:
+    """The least COM height (m) over a lowest point at the angles the body can turn to: those
+    connected to its initial angle at which resting on the lowest point, s(theta), needs no more
+    energy than it has (m g s <= E). A box at rest on one face cannot reach a lower one."""
+    cfg = _configurations(scene.body)
+    g = _gravity(scene)
+    support, angles = cfg["support"], cfg["angles"]
+    if len(support) == 1 or g == 0.0:
+        return float(support.min())
+    i = scene.initial
+    m = cfg["mass"]
+    top = i.position[1] + (0.5 * m * (i.velocity[0] ** 2 + i.velocity[1] ** 2)
+                           + 0.5 * cfg["inertia"] * i.angular_velocity ** 2) / (m * g)
+    start = int(np.argmin(np.abs(np.angle(np.exp(1j * (angles - i.angle))))))
+    # a body that starts touching, pressed in by d, stands at its support less d: the spring
+    # gives back k d^2 / 2 at most, far below any barrier a step of the angle grid sees
+    top = max(top, float(support[start]))
+    n, best = len(support), float(support[start])
+    for step in (1, -1):
+        j = start
+        for _ in range(n):
+            j = (j + step) % n
+            if support[j] > top:
+                break
+            best = min(best, float(support[j]))
+    return best
+
+
+def normal_energy(scene: Scene) -> float:
+    """E_n (J): the energy that can reach a contact's normal (see the module docstring)."""
+    cfg = _configurations(scene.body)
+    i = scene.initial
+    e = 0.5 * cfg["mass"] * i.velocity[1] ** 2
+    if cfg["turns_normal"]:  # the spin reaches the normal only where a lever r_x can exist
+        e += 0.5 * cfg["inertia"] * i.angular_velocity ** 2
+    return max(0.0, e + cfg["mass"] * _gravity(scene) * (i.position[1] - reachable_clearance(scene)))
+
+
+PROFILE_STEP = 1e-4         # of the unit oscillator's time w t: the profile to 1e-4 of a period
+
+
+@functools.lru_cache(maxsize=256)
+def load_profile(zeta: float, law: str) -> np.ndarray:
+    """The normal load of an impact, x + 2 zeta x' (linear law, clamped at 0) or
+    x + 2 zeta max(0, x') (compression law), along the unit oscillator x'' = -x - 2 zeta x' s
+    from touchdown (x = 0, x' = 1) to leaving, sampled every PROFILE_STEP of w t. In units
+    of v_n sqrt(k m_n)."""
+    h = PROFILE_STEP
+    x, v, out = 0.0, 1.0, []
+    while len(out) < 10 ** 6:
+        damped = law == "linear" or v > 0.0
+        f = x + 2.0 * zeta * v if damped else x
+        if f <= 0.0 and out:
+            break
+        out.append(max(f, 0.0))
+        a = -x - (2.0 * zeta * v if damped else 0.0)
+        x, v = x + h * v + 0.5 * h * h * a, v + h * a     # Taylor step, error O(h^3) per step
+    return np.array(out)
+
+
+def peak_factor(zeta: float, law: str = "compression") -> float:
+    """f(zeta): the peak of load_profile (1 without damping)."""
+    return float(load_profile(zeta, law).max())
+
+
+def impact(scene: Scene) -> dict:
+    """The hardest impact energy allows: all of E_n into one point at the smallest normal
+    effective mass m_n, v_n = sqrt(2 E_n / m_n). Peak normal load Fn (N) = v_n sqrt(k m_n)
+    f(zeta_n) + m g = sqrt(2 k E_n) f(zeta_n) + m g, zeta_n = c / (2 sqrt(k m_n)); the load
+    profile (N, every PROFILE_STEP / w_n s) and w_n (rad/s)."""
+    return _impact(scene.body, normal_energy(scene), _gravity(scene), scene.contact)
+
+
+@functools.lru_cache(maxsize=256)
+def _impact(body, e_n: float, g: float, contact) -> dict:
+    cfg = _configurations(body)
+    k, c, m_n = contact.k, contact.c, cfg["m_n"]
+    zeta_n = c / (2.0 * math.sqrt(k * m_n))
+    profile = math.sqrt(2.0 * k * e_n) * load_profile(zeta_n, contact.damping_law) + cfg["mass"] * g
+    return {"peak": float(profile.max()), "profile": profile, "w_n": math.sqrt(k / m_n)}
+
+
+def peak_load(scene: Scene) -> float:
+    """The largest normal load (N) a contact point carries: the impact's peak, or the weight."""
+    if not scene.has("contact"):
+        return 0.0
+    return max(impact(scene)["peak"], _configurations(scene.body)["mass"] * _gravity(scene))
+
+
+def held_impact_limit(scene: Scene, bound: float, rate_per_newton: float) -> float:
+    """The largest h (s) at which the impact's load keeps h lambda > bound for fewer than
+    CHATTER_STEPS steps (lambda = rate_per_newton Fn, 1/s): a shorter excursion past the limit
+    makes a few flips, bounded by the impact's impulse, not chatter (chatter.py). inf when no
+    step makes it last that long."""
+    imp = impact(scene)
+    dt_profile = PROFILE_STEP / imp["w_n"]
+    loads = -np.sort(-imp["profile"])                # descending: time above F = count * dt
+    h_peak = bound / (rate_per_newton * loads[0])
+    ratio = 1.0025
+    for h in h_peak * ratio ** np.arange(2800):      # up to 1e3 h_peak, 0.25 % apart
+        crit = bound / (rate_per_newton * h)
+        above = np.searchsorted(-loads, -crit, side="right") * dt_profile
+        if above >= CHATTER_STEPS * h:
+            return float(h / ratio)
+    return math.inf
+
+
+def friction_rate(scene: Scene, load: float | None = None) -> float:
+    """lambda_f = mu Fn alpha / m_t (1/s) at the load Fn (N; default: the impact's peak), m_t
+    the smallest tangential effective mass at a lowest point."""
     if not scene.has("friction"):
         return 0.0
-    props = mass_properties(scene.body)
-    if props.rotates:
-        r2 = float(np.max(np.sum(props.points ** 2, axis=1)))
-        m_t = 1.0 / (1.0 / props.mass + r2 / props.inertia)
-    else:
-        m_t = props.mass
-    g = scene.g if scene.has("gravity") else 0.0
-    return scene.contact.mu * props.mass * g * scene.contact.alpha / m_t
+    load = impact(scene)["peak"] if load is None else load
+    return scene.contact.mu * load * scene.contact.alpha / _configurations(scene.body)["m_t"]
+
+
+def rolling_rate(scene: Scene, load: float | None = None) -> float:
+    """lambda_r = mu_roll ROLL_SHARPNESS Fn / I (1/s) at the load Fn (N; default: the impact's peak)."""
+    if not scene.has("rolling_friction"):
+        return 0.0
+    fn = impact(scene)["peak"] if load is None else load
+    return scene.contact.mu_roll * ROLL_SHARPNESS * fn / _configurations(scene.body)["inertia"]
+
+
+
+# ---------------------------------------------------------------------------------------
+# One-step maps of the damped oscillator x'' = -w^2 x - 2 zeta w x' (w = 1, step hw)
+
+
+def step_matrix(method: str, hw, zeta: float, damped: bool = True) -> np.ndarray:
+    """The method's one-step map of (x, v) for the unit oscillator, shape (..., 2, 2)."""
+    hw = np.asarray(hw, dtype=float)[..., None, None]
+    z2 = 2.0 * zeta if damped else 0.0
+    jac = np.array([[0.0, 1.0], [-1.0, -z2]])
+    eye = np.eye(2)
+    if method == "explicit_euler":
+        return eye + hw * jac
+    if method == "semi_implicit_euler":  # v1 = v + h a(x, v), x1 = x + h v1
+        kick = eye + hw * np.array([[0.0, 0.0], [-1.0, -z2]])
+        drift = eye + hw * np.array([[0.0, 1.0], [0.0, 0.0]])
+        return drift @ kick
+    hj = hw * jac  # RK4: R(hJ) = I + hJ + (hJ)^2/2 + (hJ)^3/6 + (hJ)^4/24
+    out, term = eye + hj, hj
+    for n in (2, 3, 4):
+        term = term @ hj / n
+        out = out + term
+    return out
+
+
+def spectral_radius(a: np.ndarray) -> np.ndarray:
+    return np.max(np.abs(np.linalg.eigvals(a)), axis=-1)
+
+
+HW_GRID = np.geomspace(1e-4, 4.0, 20001)   # relative spacing 5e-4
+
+
+def first_growth(rho: np.ndarray) -> float:
+    """hw at which rho first exceeds 1 on HW_GRID (the grid point before), inf if never."""
+    bad = np.flatnonzero(rho > 1.0 + RHO_TOLERANCE)
+    return math.inf if len(bad) == 0 else (float(HW_GRID[bad[0] - 1]) if bad[0] else 0.0)
+
+
+@functools.lru_cache(maxsize=256)
+def linear_limit(method: str, zeta: float) -> float:
+    """hw limit of the linear (both ways) damper: rho(A) < 1."""
+    return first_growth(spectral_radius(step_matrix(method, HW_GRID, zeta)))
+
+
+@functools.lru_cache(maxsize=256)
+def period2_limit(method: str, zeta: float) -> float:
+    """hw limit of the compression law at rest: rho(A_d), rho(A_u) <= 1, and no period-2 growth:
+    M = A_u A_d has no real eigenvalue above 1 whose eigenvector e alternates (v of e and of
+    A_d e of opposite sign: the damper then really acts every other step). For semi-implicit
+    Euler this lands on the Jury limit with zeta / 2: the damper works half the steps."""
+    a_d = step_matrix(method, HW_GRID, zeta, damped=True)
+    a_u = step_matrix(method, HW_GRID, zeta, damped=False)
+    lam, vec = np.linalg.eig(a_u @ a_d)
+    after = np.einsum("kij,kjm->kim", a_d, vec.real)       # A_d e for each eigenvector
+    alternating = vec.real[:, 1, :] * after[:, 1, :] < 0.0
+    grows = (np.abs(lam.imag) < RHO_TOLERANCE) & (lam.real > 1.0 + RHO_TOLERANCE) & alternating
+    rho = np.maximum(spectral_radius(a_d), spectral_radius(a_u))
+    rho = np.where(grows.any(axis=1), np.inf, rho)
+    return first_growth(rho)
+
+
+@functools.lru_cache(maxsize=256)
+def energy_balance_limit(zeta: float, motion: str) -> float:
+    """Explicit Euler, compression law: hw < 4 zeta int(s v^2) / int(a^2 + v^2) along the exact
+    unit motion, a "bounce" (touchdown at v = 1 to leaving) or a cycle at "rest"."""
+    h = 1e-4
+    x, v = 0.0, 1.0           # x into the ground, v = x'
+    damped_v2 = total = 0.0
+    turns = 0                 # velocity reversals so far
+    for _ in range(10 ** 6):  # a cycle lasts under 2 pi / sqrt(1 - zeta^2) < 100 time units
+        s = 1.0 if v > 0.0 else 0.0
+        a = -x - 2.0 * zeta * v * s
+        damped_v2 += s * v * v * h
+        total += (a * a + v * v) * h
+        x_new, v_new = x + h * v + 0.5 * h * h * a, v + h * a   # fine Taylor step
+        if v > 0.0 >= v_new or v < 0.0 <= v_new:
+            turns += 1
+        x, v = x_new, v_new
+        if motion == "bounce" and turns >= 1 and x <= 0.0:
+            break
+        if motion == "rest" and turns >= 2 and x >= 0.0:
+            break
+    return 4.0 * zeta * damped_v2 / total
+
+
+def contact_limit(scene: Scene, method: str) -> dict[str, float]:
+    """The contact modes' limits (s), by mode."""
+    if not scene.has("contact") or method == "implicit_euler":
+        return {}
+    k, c = scene.contact.k, scene.contact.c
+    out = {}
+    for inv_m in (_configurations(scene.body)["max_mode"],):
+        w = math.sqrt(k * inv_m)
+        zeta = c * w / (2.0 * k)
+        if scene.contact.damping_law == "linear":
+            out["contact (linear oscillator)"] = linear_limit(method, zeta) / w
+        elif method == "explicit_euler":
+            out["contact (bounce energy balance)"] = energy_balance_limit(zeta, "bounce") / w
+            out["contact (rest energy balance)"] = energy_balance_limit(zeta, "rest") / w
+        else:
+            out["contact (period 2 at rest)"] = period2_limit(method, zeta) / w
+    return out
+
+
+def limit_modes(scene: Scene, integrator: str | None = None) -> dict[str, float]:
+    """Every mode's limit (s): 'effect (what sets it)' -> h."""
+    method = integrator or scene.integrator
+    if method == "implicit_euler":
+        return {}
+    out = contact_limit(scene, method)
+    bound = RK4_REAL_LIMIT if method == "rk4" else EULER_REAL_LIMIT
+    cfg = _configurations(scene.body)
+    rest = cfg["mass"] * _gravity(scene)
+    if scene.has("friction"):
+        per_newton = scene.contact.mu * scene.contact.alpha
+        if rest * per_newton > 0.0:
+            out["friction (at rest)"] = bound * cfg["m_t"] / (per_newton * rest)
+        if per_newton > 0.0:
+            out[f"friction (at the impact, held {CHATTER_STEPS} steps)"] = held_impact_limit(
+                scene, bound, per_newton / cfg["m_t"])
+    if scene.has("rolling_friction"):
+        per_newton = scene.contact.mu_roll * ROLL_SHARPNESS / cfg["inertia"]
+        if rest * per_newton > 0.0:
+            out["rolling_friction (at rest)"] = bound / (per_newton * rest)
+        if per_newton > 0.0:
+            out[f"rolling_friction (at the impact, held {CHATTER_STEPS} steps)"] = held_impact_limit(
+                scene, bound, per_newton)
+    return out
+
+
+def limits(scene: Scene, integrator: str | None = None) -> dict[str, float]:
+    """The largest stable step (s) for each effect the scene lists that limits it."""
+    out: dict[str, float] = {}
+    for mode, h in limit_modes(scene, integrator).items():
+        if not math.isfinite(h):
+            continue
+        effect = mode.split(" ")[0]
+        out[effect] = min(out.get(effect, math.inf), h)
+    return out
 
 
 def stable_step(scene: Scene, integrator: str | None = None) -> float:
     """Largest stable step (s) by the theory above; inf when nothing limits it."""
+    return min(limits(scene, integrator).values(), default=math.inf)
+
+
+def violated(scene: Scene, integrator: str | None = None) -> dict[str, float]:
+    """The effects whose limit the scene's dt exceeds: effect -> limit (s)."""
+    return {e: h for e, h in limits(scene, integrator).items() if scene.dt >= h}
+
+
+def within_limits(scene: Scene, integrator: str | None = None) -> bool:
+    """True when the scene's dt is inside the limit of every effect (metrics.json's
+    dt_within_stability_limit)."""
+    return not violated(scene, integrator)
+
+
+def warning(scene: Scene, integrator: str | None = None) -> str | None:
+    """One line for `run` and the report when dt is outside a theory limit, else None."""
+    bad = violated(scene, integrator)
+    if not bad:
+        return None
     method = integrator or scene.integrator
-    wn, zeta = contact_frequency(scene)
-    lam_f = friction_rate(scene)
-    if method == "implicit_euler":
-        return math.inf
-    if method == "explicit_euler":
-        h_n = zeta / wn if wn > 0 else math.inf
-        h_f = 2.0 / lam_f if lam_f > 0 else math.inf
-    elif method == "semi_implicit_euler":
-        h_n = 2.0 * (math.sqrt(1.0 + zeta * zeta) - zeta) / wn if wn > 0 else math.inf
-        h_f = 2.0 / lam_f if lam_f > 0 else math.inf
-    else:
-        h_n = RK4_IMAGINARY_LIMIT / wn if wn > 0 else math.inf
-        h_f = RK4_REAL_LIMIT / lam_f if lam_f > 0 else math.inf
-    return min(h_n, h_f)
+    parts = ", ".join(f"{e} needs dt < {h:.3g} s" for e, h in sorted(bad.items(), key=lambda kv: kv[1]))
+    return (f"warning: {scene.name}: dt = {scene.dt:g} s is outside the stability limit of {method} "
+            f"({parts}; see docs/stability.md): expect chatter or a blow-up")

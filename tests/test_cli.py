@@ -54,12 +54,12 @@ def test_run_writes_the_contract_files(tmp_path):
                 "angle_error_max", "energy_drift_custom", "energy_drift_mujoco", "tolerance", "pass",
                 "wall_time_custom", "wall_time_mujoco"):
         assert key in data, key
-    assert data["steps"] == 4000 and data["pass"] == (proc.returncode == 0)
+    assert data["steps"] == round(0.4 / data["dt"]) and data["pass"] == (proc.returncode == 0)
     for sim in ("custom", "mujoco"):
         lines = (folder / f"trajectory_{sim}.csv").read_text().splitlines()
-        assert lines[0] == ",".join(CSV_COLUMNS) and len(lines) == 4002  # header, t = 0, 4000 steps
+        assert lines[0] == ",".join(CSV_COLUMNS) and len(lines) == data["steps"] + 2  # header, t = 0, every step
         cols = read_csv(folder / f"trajectory_{sim}.csv")
-        assert cols["t"][0] == 0.0 and cols["t"][1] == pytest.approx(1e-4)
+        assert cols["t"][0] == 0.0 and cols["t"][1] == pytest.approx(data["dt"])
         assert cols["y"][0] == pytest.approx(0.6) and np.all(np.isfinite(cols["energy"]))
     index = (out / "index.md").read_text()
     assert "[point_drop_short](point_drop_short/index.md)" in index

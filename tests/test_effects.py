@@ -24,7 +24,7 @@ def run_model(model, points, scene, method="semi_implicit_euler"):
     out = np.empty((scene.steps, 6))
     guard = blowup_guard(scene, mass_properties(scene.body), z, applied_input=False)
     failed = integrate(model, points, z, scene.dt, scene.steps, INTEGRATORS[method].code,
-                       np.zeros((1, 3)), out, np.zeros(4, np.int64), guard)
+                       np.zeros((1, 3)), out, np.zeros(4, np.int64), guard, np.empty((0, 8)))
     return failed, out
 
 

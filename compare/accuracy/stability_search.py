@@ -3,13 +3,23 @@
 A run with step h is *stable* when
 
   1. it does not diverge (the state stays finite and within custom_sim's healthy range; for
-     MuJoCo also no automatic reset, see `mujoco_stable`), and
-  2. its energy does not grow: every force besides gravity and the contact spring dissipates
+     MuJoCo also no automatic reset, see `mujoco_stable`),
+  2. it does not chatter: no contact point's slip or normal velocity flips sign at every step,
+     without decaying, over custom_sim.chatter.CHATTER_STEPS steps (the definition, and why it
+     never flags a physical motion, is custom_sim/chatter.py's docstring; simulate raises
+     SimulationChattered), and
+  3. its energy does not grow: every force besides gravity and the contact spring dissipates
      (damping c max(0, -vc_y) or Kelvin-Voigt, friction -mu Fn tanh(alpha vc_x) against the slip,
      rolling resistance against omega), so the exact motion never gains energy. A run whose
      energy rises above E(0) by more than ENERGY_GROWTH_LIMIT of the motion's energy scale
      (the largest kinetic energy of the reference motion) is pumping energy in: a bounce
      higher than the drop, a rest that starts to rattle.
+
+Chatter is bounded: a slip flipping between +- h mu Fn / m_t gains no energy, and a resting
+body's period-2 oscillation is held by the contact's one-sidedness, so criterion 3 alone
+calls such runs stable (an earlier search by energy alone put point_drop's semi-implicit limit
+100 times above the step at which its slip starts to chatter). MuJoCo's runs are judged by 1
+and 3 only.
 
 Energy is read only at *quiet* samples, where the elastic contact energy is below
 QUIET_CONTACT_SHARE of the energy scale (free flight, or resting). Inside a hard contact a
@@ -32,7 +42,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from custom_sim import Scene, SimulationDiverged, mass_properties, simulate, stable_step
+from custom_sim import (Scene, SimulationChattered, SimulationDiverged, mass_properties, simulate,
+                        stable_step)
 from custom_sim.scene import Body
 
 # A rise of 10 % of the energy in motion is far above what a stable integrator shows at quiet
@@ -95,8 +106,15 @@ def custom_stable(scene: Scene, integrator: str, h: float, scale: float) -> tupl
     try:
         traj = simulate(dataclasses.replace(scene, integrator=integrator, dt=h))
     except SimulationDiverged as exc:
-        return False, f"diverged at step {exc.step}"
+        return False, failure_reason(exc)
     return energy_verdict(traj.energy, traj.energy_contact, scale)
+
+
+def failure_reason(exc: SimulationDiverged) -> str:
+    """The criterion a stopped run failed, in a few words (for the tables)."""
+    if isinstance(exc, SimulationChattered):
+        return f"chatter: point {exc.point} {exc.quantity} at step {exc.step}"
+    return f"diverged at step {exc.step}"
 
 
 def mujoco_stable(scene: Scene, integrator: str, h: float, scale: float) -> tuple[bool, str]:
@@ -133,7 +151,8 @@ RESET_JUMP_SPEED = 1e3      # m/s
 
 def largest_stable_step(is_stable, h_start: float, max_step: float = MAX_STEP,
                         min_step: float = MIN_STEP, ratio: float = BISECTION_RATIO,
-                        simulator: str = "", integrator: str = "") -> StabilityLimit:
+                        simulator: str = "", integrator: str = "",
+                        scan_points: int = SCAN_POINTS) -> StabilityLimit:
     """Largest h with is_stable(h) -> (bool, reason) true at h and at every scan step below it.
 
     Bisection on log h finds *a* threshold; near the limit a bouncing body spends only a few
@@ -186,7 +205,7 @@ def largest_stable_step(is_stable, h_start: float, max_step: float = MAX_STEP,
         if math.isnan(first):
             first = lo
         clean = True
-        for j in range(1, SCAN_POINTS + 1):
+        for j in range(1, scan_points + 1):
             h = lo / SCAN_RATIO ** j
             ok, reason = check(h)
             if not ok:
@@ -207,24 +226,22 @@ def mujoco_limit(scene: Scene, integrator: str, scale: float, **bisection) -> St
 
 
 def theory(scene: Scene, integrator: str) -> dict:
-    """Linear theory of custom_sim/stability.py, split by what sets it (s; inf: no limit):
+    """custom_sim/stability.py's theory, split by what sets it (s; inf: no limit):
 
-    spring        the contact spring-damper with the smallest effective mass at a contact point
-                  (a box corner: 1/m_eff = 1/m + r^2/I)
+    spring        the contact modes (the stiffest of the body on one or two lowest points)
     spring_point  the same as if the whole mass sat at the contact point
-    friction      the stiff rate lambda_f = mu m g alpha / m_t of the tanh law at rest
-    combined      custom_sim.stable_step: the smaller of spring and friction
+    friction      the tanh law's stiff rate at the largest load a point carries
+    combined      custom_sim.stable_step: the smallest of the scene's effects' limits
+    plus every effect of custom_sim.stability.limits (contact, friction, rolling_friction)
     """
-    from custom_sim.stability import RK4_REAL_LIMIT, friction_rate
+    from custom_sim.stability import limits
 
     frictionless = dataclasses.replace(
         scene, effects=tuple(e for e in scene.effects if e not in ("friction", "rolling_friction")))
     as_point = dataclasses.replace(frictionless, body=Body(shape="point", mass=scene.body.mass,
                                                            contact_height=0.0))
-    lam = friction_rate(scene)
-    if integrator == "implicit_euler" or lam == 0.0:
-        h_f = math.inf
-    else:
-        h_f = (RK4_REAL_LIMIT if integrator == "rk4" else 2.0) / lam
-    return {"spring": stable_step(frictionless, integrator), "spring_point": stable_step(as_point, integrator),
-            "friction": h_f, "combined": stable_step(scene, integrator)}
+    by_effect = limits(scene, integrator)
+    return {"spring": by_effect.get("contact", math.inf),
+            "spring_point": stable_step(as_point, integrator),
+            "friction": by_effect.get("friction", math.inf),
+            "combined": stable_step(scene, integrator), **by_effect}

@@ -277,7 +277,9 @@ def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
         "time given to other processes; results.json has the wall times too), and force evaluations.",
         f"- **Ladders**: dt = {GRID:g} s / n, n in {list(LADDER)} for ours and {list(MUJOCO_LADDER)} for MuJoCo; "
         f"a rung predicted to take over {RUN_BUDGET:g} s is skipped; unstable rungs are left out of the diagrams.",
-        f"- **Stable** = no divergence (for MuJoCo: no reset on a bad acceleration) and the energy, read where "
+        f"- **Stable** = no divergence (for MuJoCo: no reset on a bad acceleration), for ours no chatter (a contact "
+        f"point's slip or normal velocity flipping sign every step, custom_sim/chatter.py; docs/stability.md), "
+        f"and the energy, read where "
         f"the contact energy is under {QUIET_CONTACT_SHARE:.0%} of the motion's energy, never more than "
         f"{ENERGY_GROWTH_LIMIT:.0%} of the motion's largest kinetic energy above its start. The exact motion "
         f"only loses energy (damping, friction and rolling resistance all dissipate), so growth is numerical.",
@@ -318,9 +320,10 @@ STABILITY_NOTES = """Reading the table:
   step at which a 3 s run has gained 10 % (3 contacts, each multiplying the energy by about
   exp(pi h wn)).
 - Where custom_sim's `stable_step` is set by the tanh friction (h lambda_f < 2, lambda_f =
-  mu m g alpha / m_t), going past it makes the slip velocity flip sign every step around zero;
-  tanh saturates, so this chatter stays bounded and gains no energy, and the measured limit is
-  set by the contact spring instead: compare the spring column.
+  mu alpha Fn / m_t at the largest load Fn a point carries, an impact's peak), going past it makes
+  the slip velocity flip sign every step around zero; tanh saturates, so this chatter stays
+  bounded and gains no energy, but custom_sim's run stops on it (SimulationChattered) and the
+  search counts it as unstable. docs/stability.md tables theory against measured.
 - A bouncing body spends only a few steps in each contact near the limit, and what a bounce
   does to the energy then depends on where the touchdown falls inside a step: stable and
   unstable steps interleave, and the scan below the first threshold can move h_max far down

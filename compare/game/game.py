@@ -77,7 +77,7 @@ class Game:
         self.scene = ball_scene(dt)
         self.radius = self.scene.body.radius
         self.obstacles = field.obstacles() if obstacles is None else tuple(obstacles)
-        self.engine = engine if engine is not None else Stepper(self.scene)
+        self.engine = engine if engine is not None else Stepper(self.scene, watch_chatter=False)
         props = mass_properties(self.scene.body)
         self._m, self._inertia = props.mass, props.inertia
         self._g, self._k = self.scene.g, self.scene.contact.k

@@ -238,16 +238,11 @@ def reference_error(run: Trajectory, ref_states: np.ndarray) -> dict:
 
 
 def stability_warnings(scene: Scene) -> list[str]:
-    """One line per effect whose theoretical stability limit the scene's dt exceeds."""
-    from custom_sim import stability
+    """The line saying which effect's theoretical stability limit the scene's dt exceeds."""
+    from custom_sim.stability import warning
 
-    limits = getattr(stability, "limits", None)
-    if limits is None:
-        limit = stable_step(scene)
-        return [] if scene.dt < limit else [
-            f"{scene.name}: dt = {scene.dt:g} s is outside the theory's stable step {limit:.3g} s for {scene.integrator}"]
-    return [f"{scene.name}: dt = {scene.dt:g} s is outside the theory's limit {dt:.3g} s for {effect} "
-            f"({scene.integrator})" for effect, dt in limits(scene, scene.integrator).items() if not scene.dt < dt]
+    line = warning(scene)
+    return [line] if line else []
 
 
 def metrics_json(result: Result) -> dict:
