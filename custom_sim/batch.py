@@ -28,6 +28,7 @@ from numba.core import cgutils, types
 from numba.extending import intrinsic
 
 from .bodies import mass_properties
+from .chatter import WATCH_COLUMNS
 from .integrators import FORCE_EVALS, INTEGRATORS, NEWTON_ITERS, integrate
 from .model import Model, build_model, initial_state
 from .scene import Scene
@@ -107,7 +108,8 @@ def _run_batch(floats, switches, points, n_points, z0, dt, steps, methods, guard
         ext = np.zeros((1, 3))
         count = np.zeros(4, dtype=np.int64)
         start = _monotonic(clock)
-        stop = integrate(model, pts, z, dt[b], n, methods[b], ext, trajectory, count, guard)
+        watch = np.zeros((n_points[b], WATCH_COLUMNS))   # chatter counts as unstable, as in simulate
+        stop = integrate(model, pts, z, dt[b], n, methods[b], ext, trajectory, count, guard, watch)
         wall[b] = _monotonic(clock) - start
         failed[b] = stop
         final[b] = z

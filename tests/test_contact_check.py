@@ -15,6 +15,7 @@ from compare.scenarios import load
 from compare.verdict.contact_check import check_contact, contact_scene
 from compare.verdict.impedance import mapping_error
 from custom_sim import mass_properties
+from custom_sim.chatter import WATCH_COLUMNS
 from custom_sim.integrators import INTEGRATORS, integrate
 from custom_sim.model import build_model, initial_state
 from custom_sim.simulate import blowup_guard
@@ -76,7 +77,7 @@ def mistaken(scene, mass=1.0, inertia=1.0, points=1.0, law=None):
     out[0] = z
     integrate(model, np.ascontiguousarray(pts * points), z, scene.dt, scene.steps,
               INTEGRATORS[scene.integrator].code, np.zeros((1, 3)), out[1:], np.zeros(4, dtype=np.int64),
-              blowup_guard(scene, props, z, applied_input=False))
+              blowup_guard(scene, props, z, applied_input=False), np.empty((0, WATCH_COLUMNS)))
     return out
 
 

@@ -13,6 +13,7 @@ from compare.accuracy.reference import Equations
 from compare.scenarios import load, load_builtins
 from compare.verdict import one_step
 from compare.verdict.step_check import check_step, split_arrays
+from custom_sim.chatter import WATCH_COLUMNS
 from custom_sim.integrators import INTEGRATORS, NEWTON_TOL, integrate
 from custom_sim.model import build_model, initial_state
 from custom_sim.simulate import blowup_guard
@@ -42,7 +43,7 @@ def run_custom(scene, props=None):
     counters = np.zeros(4, dtype=np.int64)
     guard = blowup_guard(scene, props, z, applied_input=True)
     integrate(model, points, z, scene.dt, scene.steps, INTEGRATORS[scene.integrator].code,
-              np.zeros((1, 3)), out[1:], counters, guard)
+              np.zeros((1, 3)), out[1:], counters, guard, np.empty((0, WATCH_COLUMNS)))
     return out, counters
 
 

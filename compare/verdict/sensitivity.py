@@ -23,6 +23,7 @@ import dataclasses
 import numpy as np
 
 from custom_sim import Scene, SimulationDiverged, mass_properties
+from custom_sim.chatter import WATCH_COLUMNS
 from custom_sim.integrators import INTEGRATORS, integrate
 from custom_sim.model import build_model, initial_state
 from custom_sim.simulate import blowup_guard
@@ -52,7 +53,7 @@ def run_states(scene: Scene, integrator: str, dt: float, force_scale: float = 1.
     counters = np.zeros(4, dtype=np.int64)
     guard = blowup_guard(scene, props, z, applied_input=False)
     failed = integrate(model, points, z, dt, n, INTEGRATORS[integrator].code, np.zeros((1, 3)),
-                       out[1:], counters, guard)
+                       out[1:], counters, guard, np.empty((0, WATCH_COLUMNS)))  # chatter: not watched
     if failed >= 0:
         raise SimulationDiverged(scene, integrator, dt, int(failed), z.copy())
     return out
