@@ -12,6 +12,7 @@ import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
+from custom_sim import warm_up
 
 from ..cli import output_folder
 from ..scenarios import load_all
@@ -38,6 +39,7 @@ def run_one(scene, out: str):
 
 def main(args) -> int:
     scenes = load_all(args.scenes)
+    warm_up()  # compile once here, before the workers start (they inherit it or load the cache)
     out = output_folder(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
