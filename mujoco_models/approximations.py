@@ -26,7 +26,7 @@ def approximations(twin) -> list[str]:
         out += rolling_notes(scene, twin)
         if twin.cone == "pyramidal" and scene.has("friction"):
             out.append("cone: pyramidal, the friction cone cut into 2 (condim - 1) planes; the "
-                       "rolling-resistance deceleration is about 4 % off (PHYSICS.md)")
+                       "rolling-resistance deceleration is about 4 % off (docs/physics.md)")
     out += stepping_notes(scene, twin.integrator, twin.dt)
     return out
 

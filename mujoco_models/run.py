@@ -3,7 +3,7 @@
 MuJoCo's own loop (mujoco.rollout) takes all the steps in C; the timed call comes after a
 short warm-up rollout. Each output row of rollout is MuJoCo's full physics state after a step,
 [time, qpos (nq), qvel (nv), ...] (fields in the order of their mjtState bits), which frames.py
-turns into our [x, y, theta, vx, vy, omega]. The energy is CONTRACT.md's formula on that
+turns into our [x, y, theta, vx, vy, omega]. The energy is the trajectory files' formula on that
 state (custom_sim.energy: kinetic + m g y + sum of k d^2 / 2 over our contact points).
 """
 from __future__ import annotations

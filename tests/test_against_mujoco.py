@@ -1,6 +1,6 @@
 """custom_sim against its MuJoCo twin: every built-in scenario within its derived tolerance.
 
-The penalty mapping makes MuJoCo's contact our spring-damper (PHYSICS.md), so every built-in
+The penalty mapping makes MuJoCo's contact our spring-damper (docs/physics.md), so every built-in
 scenario is expected to agree with it, within the tolerance compare/verdict/tolerance.py derives from
 what the two models do not share; with friction on, the scenario also runs with friction off,
 where only impedance and contact switching separate them.

@@ -14,7 +14,7 @@ from custom_sim import INTEGRATORS
 
 # Observed order from two steps a factor 2 apart, in the asymptotic range of each method (the
 # leading error term dominates: measured 1.000 and 3.98): 1 +- 0.05 and RK4 4 +- 0.2
-# (PHYSICS.md: 1, 1, 1, 4 away from contact events).
+# (docs/physics.md: 1, 1, 1, 4 away from contact events).
 ORDER_SLACK = {"explicit_euler": 0.05, "semi_implicit_euler": 0.05, "implicit_euler": 0.05, "rk4": 0.2}
 
 

@@ -1,6 +1,6 @@
 """Work-precision sweep: what each integrator's accuracy costs, in both simulators.
 
-For every scene (following DiffEqDevTools' work-precision diagrams, PHYSICS.md "Accuracy
+For every scene (following DiffEqDevTools' work-precision diagrams, docs/physics.md "Accuracy
 against cost"):
 
   reference    compare.accuracy.reference: custom_sim's equations by DOP853 at tight tolerance with

@@ -258,7 +258,7 @@ def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
         f"Sweep of {len(results)} scene(s) in {runtime:.0f} s on {jobs} worker process(es) "
         f"(`python -m compare sweep`).",
         "",
-        "How it is measured (PHYSICS.md, \"Accuracy against cost\"):",
+        "How it is measured (docs/physics.md, \"Accuracy against cost\"):",
         "",
         f"- **Reference**: the same equations as custom_sim solved by scipy's DOP853 at rtol = atol = "
         f"{REFERENCE_RTOL:g}, each contact switch (a point touching or leaving, the kink of the damping law; "

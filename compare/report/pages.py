@@ -147,7 +147,7 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         "",
         "## The three solref mappings",
         "",
-        "How MuJoCo's soft contact is set from k and c (PHYSICS.md). Only the scene's own mapping is judged.",
+        "How MuJoCo's soft contact is set from k and c (docs/physics.md, \"Three ways to set solref\"). Only the scene's own mapping is judged.",
         "",
         "| mapping | max position difference | RMS | max angle difference | MuJoCo energy drift | verdict |",
         "|---|---|---|---|---|---|",

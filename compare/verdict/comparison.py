@@ -81,7 +81,7 @@ def without_friction(scene: Scene) -> dict:
 
 
 def metrics_json(result: Result) -> dict:
-    """metrics.json: the keys CONTRACT.md names, then ours."""
+    """metrics.json: the keys docs/report-files.md promises, then ours."""
     scene, custom, twin, tol = result.scene, result.custom, result.mujoco, result.tolerance
     m = result.metrics
     limit = stable_step(scene)

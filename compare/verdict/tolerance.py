@@ -6,7 +6,7 @@ Each term is a difference the physics predicts, with its cause written down besi
                our k r + c v up to a relative d |A / A_hat - 1| (A the contact's true inverse
                inertia): a few 1e-4, taken as 1e-4 on every impulse. Velocities then differ by
                up to 1e-4 of the largest speed the energy allows, v_max = sqrt(v0^2 + 2 g H),
-               and positions by 1e-4 v_max T over the run (PHYSICS.md: 1e-4 m on a box).
+               and positions by 1e-4 v_max T over the run (measured: 1e-4 m on a box, docs/physics.md).
   switching    contact starts and ends on each simulator's own step grid: a switch can be late
                by one step in either, so positions differ by up to 2 v_impact dt.
   damping law  MuJoCo damps both ways, clamped at zero (our "linear" law). With the seed's
