@@ -113,3 +113,28 @@ def test_newton_converges_on_every_builtin_scene():
         tr = simulate(dataclasses.replace(scene, integrator="implicit_euler", duration=min(scene.duration, 1.0)))
         assert tr.meta["newton_unconverged_steps"] == 0, scene.name
         assert tr.meta["newton_max_iterations"] <= 10, (scene.name, tr.meta)
+
+
+def test_the_implicit_step_allocates_nothing():
+    """The Newton step and its Jacobian build no temporary array: their compiled code calls no
+    allocator (an array expression such as `k * dd` would: 14 allocation sites in an earlier
+    Jacobian). Fresh uncached copies are compiled, since numba shows no code loaded from cache."""
+    import numba
+
+    from custom_sim.integrators import implicit_euler_step
+    from custom_sim.model import initial_state
+    from compare.scenarios import load
+
+    scene = load("box_drop")
+    model, points = build_model(scene)
+    z = initial_state(scene)
+    work = np.zeros((18, 6))
+    jac = numba.njit(acceleration_jacobian.py_func)
+    jac(model, points, z, work[2:5])
+    step = numba.njit(implicit_euler_step.py_func)
+    step(model, points, z.copy(), scene.dt, 0.0, 0.0, 0.0, np.zeros(4, dtype=np.int64), work)
+    for f in (jac, step):
+        code = "".join(f.inspect_llvm().values())
+        assert code, f"no code to inspect for {f.py_func.__name__}"
+        calls = code.count("NRT_MemInfo_alloc") + code.count("NRT_Allocate")
+        assert calls == 0, f"{f.py_func.__name__} calls an allocator {calls} times"
