@@ -187,7 +187,7 @@ def answer(sweep) -> str:
         vs_ref = ranking(theirs)
         if vs_ref:
             parts.append(f"Against our reference MuJoCo reaches 1 mm with {vs_ref[0].integrator} at "
-                         f"dt = {vs_ref[0].dt:g} s ({_cost(vs_ref[0])}, {_timing(vs_ref[0])}).")
+                         f"dt = {vs_ref[0].dt:g} s: {_cost(vs_ref[0])}, {_timing(vs_ref[0])}.")
         elif math.isfinite(model):
             parts.append(f"Against our reference it cannot: its converged solution itself is {_mm(model)} "
                          f"from ours (model difference, not step size).")
@@ -248,6 +248,84 @@ def cheapest_table(results, command: str = "python -m compare sweep") -> str:
               "Force evaluations compare runs of one simulator; between the two, only the times do, and "
               "only where they differ by more than their spread."]
     return "\n".join(lines)
+
+
+# ---------------------------------------------------------------------------------------
+# Plot
+
+
+def plot_scene(sweep, path: Path) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..accuracy.workprecision import TARGET_ERROR
+
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.2), sharey=True)
+    panels = (("numerical error: ours vs reference, MuJoCo vs its own converged solution", True),
+              ("against our reference (MuJoCo: numerical error + model difference)", False))
+    integrators = []
+    for r in sweep.runs:
+        if (r.simulator, r.integrator) not in integrators:
+            integrators.append((r.simulator, r.integrator))
+    for ax, (title, own) in zip(axes, panels):
+        for sim, integ in integrators:
+            runs = [r for r in sweep.of(sim, integ) if r.stable]
+            err = [r.error_max_self if (own and sim == "mujoco") else r.error_max for r in runs]
+            pts = [(r.cpu_time, e, r.dt) for r, e in zip(runs, err) if math.isfinite(e) and e > 0]
+            if not pts:
+                continue
+            xs, ys, dts = zip(*pts)
+            style = dict(color=COLORS.get(integ), marker="o" if sim == "custom" else "s",
+                         linestyle="-" if sim == "custom" else "--", markersize=4)
+            label = f"ours: {LABELS.get(integ, integ)}" if sim == "custom" else f"MuJoCo: {integ}"
+            ax.plot(xs, ys, label=label, **style)
+            for x, y, dt in ((xs[0], ys[0], dts[0]), (xs[-1], ys[-1], dts[-1])):
+                ax.annotate(f"{dt:.0e}", (x, y), fontsize=6, xytext=(2, 2), textcoords="offset points",
+                            color=COLORS.get(integ))
+        ax.axhline(TARGET_ERROR, color="grey", linewidth=0.8, linestyle=":")
+        ax.text(0.99, TARGET_ERROR, "1 mm", va="bottom", ha="right", fontsize=8, color="grey",
+                transform=ax.get_yaxis_transform())
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("time of the run (s): CPU time of the stepping, min of repeats")
+        ax.set_title(title, fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("max COM position error over the run (m)")
+    axes[0].legend(fontsize=7, loc="lower left")
+    ref = sweep.reference
+    fig.suptitle(f"{sweep.scene.name}: work-precision ({sweep.scene.duration:g} s simulated; labels: step size in s; "
+                 f"reference converged to {ref['change_at_tighter_tolerance']:.1e} m)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+# ---------------------------------------------------------------------------------------
+# Markdown and JSON
+
+
+def _fmt(x, spec=".3g") -> str:
+    return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, spec)
+
+
+def stability_rows(sweep) -> list[str]:
+    from ..accuracy.stability_search import theory
+
+    rows = []
+    for lim in sweep.stability:
+        if lim.simulator == "custom":
+            th = theory(sweep.scene, lim.integrator)
+        else:  # MuJoCo's Euler is semi-implicit; implicit(fast) integrate contact explicitly too
+            th = theory(sweep.scene, "rk4" if lim.integrator == "RK4" else "semi_implicit_euler")
+        spring = th["spring"]
+        ratio = lim.h_max / spring if math.isfinite(spring) and spring > 0 else math.nan
+        name = LABELS.get(lim.integrator, lim.integrator) if lim.simulator == "custom" else f"MuJoCo {lim.integrator}"
+        why = lim.reason or ("stable up to the largest step tried" if lim.capped else "")
+        rows.append(f"| {sweep.scene.name} | {name} | {lim.text()} | {_fmt(lim.first_threshold)} | {_fmt(spring)} | "
+                    f"{_fmt(th['spring_point'])} | {_fmt(th['friction'])} | {_fmt(th['combined'])} | "
+                    f"{_fmt(ratio, '.2f')} | {why} |")
+    return rows
 
 
 STABILITY_HEADER = [
