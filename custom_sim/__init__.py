@@ -1,5 +1,5 @@
 """A hand-written 2D penalty contact simulator: point mass, box, compound body, rolling circle."""
-from .compile_cache import clear_if_sources_changed
+from .compile_cache import clear_if_sources_changed, warm_up
 
 clear_if_sources_changed()
 
@@ -14,5 +14,5 @@ __all__ = [
     "CsvError", "INTEGRATORS", "Integrator", "MassProperties", "Scene", "SceneError", "SimulationChattered",
     "SimulationDiverged",
     "Stepper", "Trajectory", "load_scene", "mass_properties", "parse_scene", "read_csv",
-    "simulate", "stable_step", "write_csv",
+    "simulate", "stable_step", "warm_up", "write_csv",
 ]

@@ -1,19 +1,37 @@
-"""Keeps numba's on-disk cache honest across edits.
+"""numba's on-disk cache of the simulator: kept honest across edits, and filled once, up front.
 
 numba checks a cached function against its own file only; `integrate` inlines the force law
 from forces.py, so an edit there would silently run stale machine code. A digest of all the
 package's sources, kept beside the cache, clears the cache whenever any source changes.
+
+The first run on a machine (or after an edit) compiles the simulator: a few seconds on one
+core. warm_up() does that once, in the calling process, before worker processes start, so
+that they inherit the compiled code (fork) or load it from the cache instead of each
+compiling it again at the same time.
 """
 from __future__ import annotations
 
 import hashlib
+import sys
+import time
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parent
+COMPILING_MESSAGE = "compiling the simulator (first run only) ..."
+
+
+def cache_folder() -> Path:
+    """Where numba keeps this package's cache: custom_sim/__pycache__, or a folder under
+    NUMBA_CACHE_DIR when that is set."""
+    try:
+        from .forces import tanh
+        return Path(tanh._cache._cache_path)
+    except Exception:  # another numba layout: its default, in-tree
+        return PACKAGE / "__pycache__"
 
 
 def clear_if_sources_changed() -> None:
-    cache = PACKAGE / "__pycache__"
+    cache = cache_folder()
     digest = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(PACKAGE.glob("*.py")))).hexdigest()
     stamp = cache / "numba_sources.sha256"
     try:
@@ -22,9 +40,44 @@ def clear_if_sources_changed() -> None:
     except OSError:
         pass
     try:
-        cache.mkdir(exist_ok=True)
+        cache.mkdir(parents=True, exist_ok=True)
         for stale in [*cache.glob("*.nbi"), *cache.glob("*.nbc")]:
             stale.unlink(missing_ok=True)
         stamp.write_text(digest)
     except OSError:
         pass  # a read-only install: numba then compiles in memory
+
+
+def is_cached(dispatcher) -> bool:
+    """True when numba's cache holds an index for this compiled function (nothing to compile
+    for the signatures it lists)."""
+    try:
+        return Path(dispatcher._cache._cache_file._index_path).is_file()
+    except AttributeError:
+        return False
+
+
+def warm_up(stream=None) -> float:
+    """Compile (or load from the cache) everything a run executes: the stepping loop with all
+    four integrators and the blow-up check of a recorded trajectory, through one 2-step run of
+    a small scene. Prints COMPILING_MESSAGE to `stream` (stderr) when it has to compile.
+    Returns the seconds it took."""
+    from .integrators import first_unhealthy, integrate
+    from .scene import parse_scene
+    from .simulate import blowup_guard, simulate
+
+    start = time.perf_counter()
+    if not (is_cached(integrate) and is_cached(first_unhealthy)):
+        print(COMPILING_MESSAGE, file=stream or sys.stderr, flush=True)
+    scene = parse_scene({"name": "warm_up", "duration": 2e-4, "dt": 1e-4,
+                         "body": {"shape": "box", "mass": 1.0, "size": [0.2, 0.1]},
+                         "initial": {"position": [0.0, 0.04]}}, file="<warm_up>")
+    traj = simulate(scene)
+    states = traj.states()
+    first_unhealthy(states, blowup_guard(scene, _props(scene), states[0], applied_input=False))
+    return time.perf_counter() - start
+
+
+def _props(scene):
+    from .bodies import mass_properties
+    return mass_properties(scene.body)

@@ -1,4 +1,4 @@
-"""Mechanical energy of a trajectory, by the formula of CONTRACT.md (J).
+"""Mechanical energy of a trajectory (J), the `energy` column of every trajectory file.
 
 E = m (vx^2 + vy^2) / 2 + I omega^2 / 2     kinetic
   + m g y                                  gravitational (0 without gravity)

@@ -84,15 +84,41 @@ def accelerations(model, points, z, fx, fy, tau):
 
 
 @njit(cache=True)
-def acceleration_jacobian(model, points, z, jac, work):
-    """d(ax, ay, alpha_theta)/dz into jac (3, 6), analytic; work is scratch of shape (6, 6).
-    At the kinks of max() and of the contact switch it takes the active branch's derivative."""
-    jac[:, :] = 0.0
+def add_gradient(row, scale, c_d, c_x, c_y, rx, ry, om, rot):
+    """row (6,) += scale (c_d grad d + c_x grad vc_x + c_y grad vc_y), the gradients over
+    z = (x, y, theta, vx, vy, omega) of a contact point's depth d = -(y + r_y) and slip
+    vc = (vx - omega r_y, vy + omega r_x); r turns with theta (dr/dtheta = (-r_y, r_x)) when
+    rot = 1, so
+        grad d    = (0, -1, -rot r_x,       0, 0,  0)
+        grad vc_x = (0,  0, -rot omega r_x, 1, 0, -r_y)
+        grad vc_y = (0,  0, -rot omega r_y, 0, 1,  r_x)
+    Written out component by component: no array is built. row: one row of the Jacobian."""
+    row[1] -= scale * c_d
+    row[2] -= scale * rot * (c_d * rx + om * (c_x * rx + c_y * ry))
+    row[3] += scale * c_x
+    row[4] += scale * c_y
+    row[5] += scale * (c_y * rx - c_x * ry)
+
+
+@njit(cache=True)
+def acceleration_jacobian(model, points, z, jac):
+    """d(ax, ay, alpha_theta)/dz into jac (3, 6), analytic and allocation-free. At the kinks of
+    max() and of the contact switch it takes the active branch's derivative.
+
+    Per touching point every force is a function of (d, vc_x, vc_y), so each gradient is a
+    combination of the three gradients of add_gradient:
+        dFn  = fn_d grad d + fn_v grad vc_y              (fn_d = k; fn_v = -c while damping acts)
+        dFt  = -mu th dFn - mu Fn alpha (1 - th^2) grad vc_x,   th = tanh(alpha vc_x)
+        dtau = r_x dFn - r_y dFt + rot (-r_y Fn - r_x Ft) e_theta   (tau = r_x Fn - r_y Ft)
+               - mu_roll th_r dFn - mu_roll Fn S (1 - th_r^2) e_omega,  th_r = tanh(S omega)
+    """
+    for r in range(3):
+        for j in range(6):
+            jac[r, j] = 0.0
     if not model.contact:
         return
     theta, vx, vy, om = z[2], z[3], z[4], z[5]
     rot = 1.0 if model.points_rotate else 0.0
-    dd, dvx, dvy, dfn, dft, dtau = work[0], work[1], work[2], work[3], work[4], work[5]
     cs, sn = rotation(model, theta)
     for i in range(points.shape[0]):
         lx, ly = points[i, 0], points[i, 1]
@@ -101,35 +127,34 @@ def acceleration_jacobian(model, points, z, jac, work):
         if d <= 0.0:
             continue
         vcx, vcy = vx - om * ry, vy + om * rx
-        # d/dz of d, vc_x, vc_y; dr/dtheta = (-r_y, r_x) for points that turn
-        dd[:] = 0.0
-        dd[1], dd[2] = -1.0, -rot * rx
-        dvx[:] = 0.0
-        dvx[2], dvx[3], dvx[5] = -rot * om * rx, 1.0, -ry
-        dvy[:] = 0.0
-        dvy[2], dvy[4], dvy[5] = -rot * om * ry, 1.0, rx
         fn = normal_force(model, d, vcy)
+        # dFn = fn_d grad d + fn_v grad vc_y, on the active branch of max()
+        fn_d, fn_v = model.k, 0.0
         if model.damping_law == COMPRESSION:
-            dfn[:] = model.k * dd
             if vcy < 0.0:
-                dfn[:] -= model.c * dvy
+                fn_v = -model.c
         elif model.k * d - model.c * vcy > 0.0:
-            dfn[:] = model.k * dd - model.c * dvy
+            fn_v = -model.c
         else:
-            dfn[:] = 0.0
-        ft = 0.0
-        dft[:] = 0.0
+            fn_d = 0.0
+        # dFt = ft_n dFn + ft_x grad vc_x
+        ft, ft_n, ft_x = 0.0, 0.0, 0.0
         if model.friction:
             th = tanh(model.alpha * vcx)
             ft = -model.mu * fn * th
-            dft[:] = -model.mu * (dfn * th + fn * model.alpha * (1.0 - th * th) * dvx)
-        jac[0, :] += dft * model.inv_mass
-        jac[1, :] += dfn * model.inv_mass
-        # tau = r_x Fn - r_y Ft:  dtau = dr_x Fn + r_x dFn - dr_y Ft - r_y dFt
-        dtau[:] = rx * dfn - ry * dft
-        dtau[2] += rot * (-ry * fn - rx * ft)
+            ft_n = -model.mu * th
+            ft_x = -model.mu * fn * model.alpha * (1.0 - th * th)
+        # Fn and Ft on (grad d, grad vc_x, grad vc_y)
+        n_d, n_x, n_y = fn_d, 0.0, fn_v
+        t_d, t_x, t_y = ft_n * fn_d, ft_x, ft_n * fn_v
+        add_gradient(jac[0], model.inv_mass, t_d, t_x, t_y, rx, ry, om, rot)
+        add_gradient(jac[1], model.inv_mass, n_d, n_x, n_y, rx, ry, om, rot)
+        # tau: r_x Fn - r_y Ft (- mu_roll th_r Fn), and the lever arms' own turn with theta
+        lever_n = rx
         if model.rolling:
             th_r = tanh(ROLL_SHARPNESS * om)
-            dtau -= model.mu_roll * th_r * dfn
-            dtau[5] -= model.mu_roll * fn * ROLL_SHARPNESS * (1.0 - th_r * th_r)
-        jac[2, :] += dtau * model.inv_inertia
+            lever_n -= model.mu_roll * th_r
+            jac[2, 5] -= model.mu_roll * fn * ROLL_SHARPNESS * (1.0 - th_r * th_r) * model.inv_inertia
+        add_gradient(jac[2], model.inv_inertia, lever_n * n_d - ry * t_d, lever_n * n_x - ry * t_x,
+                     lever_n * n_y - ry * t_y, rx, ry, om, rot)
+        jac[2, 2] += rot * (-ry * fn - rx * ft) * model.inv_inertia

@@ -73,7 +73,8 @@ def semi_implicit_euler_step(model, points, z, h, fx, fy, tau, counters):
 
 @njit(cache=True)
 def solve3(a, b, x):
-    """x = a^-1 b for a 3x3 system, Gaussian elimination with partial pivoting (a, b overwritten)."""
+    """x = a^-1 b for the 3x3 system in a[:3, :3], Gaussian elimination with partial pivoting
+    (a, b overwritten)."""
     for col in range(3):
         p = col
         for r in range(col + 1, 3):
@@ -118,12 +119,14 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
     tanh of a sharp friction law. Where G jumps over zero (a damper that engages with force
     c |vc_y| at touchdown) no root exists; the search then ends at the jump, counted as
     unconverged."""
-    z0 = work[0, :6]
-    z0[:] = z
-    zi = work[1, :6]
-    jac = work[2:5, :6]
-    scratch = work[5:11, :6]
-    mat = work[11:14, :3]
+    # views into the caller's scratch, all C-contiguous (whole rows): no allocation, and one
+    # compiled variant of acceleration_jacobian and solve3
+    z0 = work[0]
+    zi = work[1]
+    for j in range(6):
+        z0[j] = z[j]
+    jac = work[2:5]      # (3, 6)
+    mat = work[11:14]    # (3, 6), the 3x3 Newton matrix in its first three columns
     rhs = work[14, :3]
     dv = work[15, :3]
     g = work[16, :3]
@@ -136,14 +139,15 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
     it = 0
     while it < NEWTON_MAX_ITERATIONS:
         it += 1
-        acceleration_jacobian(model, points, zi, jac, scratch)
+        acceleration_jacobian(model, points, zi, jac)
         for r in range(3):
             rhs[r] = -g[r]
             for j in range(3):
                 mat[r, j] = (1.0 if r == j else 0.0) - h * (h * jac[r, j] + jac[r, 3 + j])
         solve3(mat, rhs, dv)
         size = max(abs(dv[0]), abs(dv[1]), abs(dv[2]))
-        v_start[:] = zi[3:6]
+        for j in range(3):
+            v_start[j] = zi[3 + j]
         t = 1.0
         while True:
             for j in range(3):
@@ -167,23 +171,34 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
 
 @njit(cache=True)
 def rk4_step(model, points, z, h, fx, fy, tau, counters, work):
-    """z1 = z0 + h/6 (k1 + 2 k2 + 2 k3 + k4), k_i = f(z0 + c_i h k_{i-1}), f(z) = (v, a(z))."""
-    z0 = work[0, :6]
-    zs = work[1, :6]
-    acc = work[2, :6]
-    z0[:] = z
-    zs[:] = z
-    acc[:] = 0.0
-    weights = (1.0, 2.0, 2.0, 1.0)
-    nodes = (0.5, 0.5, 1.0)
+    """z1 = z0 + h/6 (k1 + 2 k2 + 2 k3 + k4), k_s = f(z_s), f(z) = (v, a(z)), with the stage
+    states z_1 = z0, z_s = z0 + c_s h k_{s-1}, c = (1/2, 1/2, 1). Every index is a constant or a
+    loop counter over an array: no tuple indexed at run time (that compiles slowly)."""
+    z0 = work[0]
+    zs = work[1]
+    acc = work[2]
+    for j in range(6):
+        z0[j] = z[j]
+        zs[j] = z[j]
+        acc[j] = 0.0
     for s in range(4):
         ax, ay, aw = accelerations(model, points, zs, fx, fy, tau)
-        k = (zs[3], zs[4], zs[5], ax, ay, aw)
-        for j in range(6):
-            acc[j] += weights[s] * k[j]
+        weight = 1.0 if s == 0 or s == 3 else 2.0
+        acc[0] += weight * zs[3]
+        acc[1] += weight * zs[4]
+        acc[2] += weight * zs[5]
+        acc[3] += weight * ax
+        acc[4] += weight * ay
+        acc[5] += weight * aw
         if s < 3:
-            for j in range(6):
-                zs[j] = z0[j] + nodes[s] * h * k[j]
+            ch = (1.0 if s == 2 else 0.5) * h
+            # next stage: positions from this stage's velocities, then velocities from its a
+            zs[0] = z0[0] + ch * zs[3]
+            zs[1] = z0[1] + ch * zs[4]
+            zs[2] = z0[2] + ch * zs[5]
+            zs[3] = z0[3] + ch * ax
+            zs[4] = z0[4] + ch * ay
+            zs[5] = z0[5] + ch * aw
     counters[FORCE_EVALS] += 4
     for j in range(6):
         z[j] = z0[j] + h / 6.0 * acc[j]

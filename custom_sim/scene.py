@@ -1,4 +1,4 @@
-"""Scene files: the TOML schema of CONTRACT.md loaded into frozen dataclasses.
+"""Scene files: the TOML schema of docs/scene-format.md loaded into frozen dataclasses.
 
 Every error is a `SceneError` naming the file, the field (dotted path) and what was
 expected. Unknown keys are errors, so a typo such as `mus = 0.5` never passes silently.

@@ -1,6 +1,6 @@
 """What the scene's effect list becomes in MuJoCo: gravity, condim and the friction vector.
 
-Only listed effects go in (CONTRACT.md): no gravity -> option gravity 0 0 0; no contact -> no
+Only listed effects go in (docs/scene-format.md): no gravity -> option gravity 0 0 0; no contact -> no
 contact pair; condim 1 (contact) / 3 (+ friction) / 6 (+ rolling_friction, the seed's choice
 for the rolling circle). friction = "slide torsion roll": mu (-), 0 (m: no joint lets the body
 spin about the ground normal, so torsion never acts), mu_roll (m).

@@ -3,7 +3,7 @@
 MuJoCo's own loop (mujoco.rollout) takes all the steps in C; the timed call comes after a
 short warm-up rollout. Each output row of rollout is MuJoCo's full physics state after a step,
 [time, qpos (nq), qvel (nv), ...] (fields in the order of their mjtState bits), which frames.py
-turns into our [x, y, theta, vx, vy, omega]. The energy is CONTRACT.md's formula on MuJoCo's
+turns into our [x, y, theta, vx, vy, omega]. The energy is the trajectory files' formula (docs/report-files.md) on MuJoCo's
 state, from MuJoCo's own sensors (energy.py: its kinetic and potential energy, and k d^2 / 2
 over its contact distances). A run is void when MuJoCo flags a bad acceleration or the
 twin's own guard (guard.py) finds the state blown up.

@@ -1,4 +1,4 @@
-"""solref and solimp from the scene's k (N/m) and c (N s/m): the three mappings of PHYSICS.md.
+"""solref and solimp from the scene's k (N/m) and c (N s/m): the three mappings of docs/physics.md.
 
 MuJoCo's contact row (engine_core_constraint.c) solves for a force f with
 

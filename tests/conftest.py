@@ -1,4 +1,4 @@
-"""Shared helpers for the tests: scenes built in code from the CONTRACT.md schema."""
+"""Shared helpers for the tests: scenes built in code from the schema of docs/scene-format.md."""
 from __future__ import annotations
 
 import copy

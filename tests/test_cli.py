@@ -1,4 +1,4 @@
-"""The command line of CONTRACT.md: help, list, run's output files and exit statuses."""
+"""The command line of docs/cli.md: help, list, run's output files and exit statuses."""
 import json
 import subprocess
 import sys

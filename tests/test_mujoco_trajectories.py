@@ -1,4 +1,4 @@
-"""Whole runs of the twin against ours and against textbook results (PHYSICS.md)."""
+"""Whole runs of the twin against ours and against textbook results (docs/physics.md)."""
 
 import numpy as np
 import pytest
@@ -41,7 +41,7 @@ def test_point_mass_linear_law_penalty_tracks_ours_for_one_second(c):
     """MuJoCo's Euler is our semi-implicit Euler, and the only other difference is the extra
     force d_imp m g while touching (test above): at most d_imp g T^2 / 2 in position over T if
     it acted all the time (in flight e'' = that; in contact the spring only pulls e back).
-    PHYSICS.md: 1e-4 m is reachable."""
+    docs/physics.md: 1e-4 m is reachable."""
     scene = point_scene(c=c)
     ours, twin = simulate(scene), simulate_mujoco(scene)
     assert twin.integrator == "Euler" and twin.steps == ours.steps
@@ -64,7 +64,7 @@ def disk_scene(effects, mu=0.3, duration=0.5, mu_roll=0.002):
 
 @pytest.mark.parametrize("mu", [0.3, 0.8])
 def test_sliding_disk_ends_rolling_at_two_thirds_of_v0(mu):
-    """v0 / (1 + I / (m a^2)) = 2 v0 / 3 at a = R, whatever mu (PHYSICS.md). MuJoCo applies the
+    """v0 / (1 + I / (m a^2)) = 2 v0 / 3 at a = R, whatever mu (docs/physics.md). MuJoCo applies the
     sphere's contact mid-way through the overlap, a = R - delta / 2 with delta = m g / k: then
     v = 2 v0 / 3 (1 - delta / (3 R)) and the contact point stops slipping, v + omega a = 0."""
     scene = disk_scene(["gravity", "contact", "friction"], mu=mu)   # slides for v0 / (3 mu g) < 0.23 s

@@ -104,7 +104,7 @@ def test_sliding_disk_ends_rolling_at_two_thirds():
 @pytest.mark.parametrize("law", ["custom_sim's", "sign"])
 def test_rolling_resistance_decelerates_a_rolling_disk(monkeypatch, law):
     """Rolling resistance mu_roll Fn on a rolling disk: deceleration 2 mu_roll g / (3 R)
-    (PHYSICS.md), under custom_sim's law and under the seed's sign(omega) with its switch
+    (docs/physics.md), under custom_sim's law and under the seed's sign(omega) with its switch
     located as an event (the law the reference falls back to)."""
     if law == "sign":
         monkeypatch.setattr(reference, "_roll_sharpness", lambda: None)

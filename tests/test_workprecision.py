@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 
 from compare.accuracy.reference import solve_reference
-from compare.accuracy.workprecision import (GRID, Run, cheapest, custom_grid_run, custom_ladder, grid_times,
-                                   position_errors, run_sweep)
+from compare.accuracy.workprecision import (GRID, Run, cheapest, clearly_faster, custom_grid_run, custom_ladder,
+                                           fastest, grid_times, position_errors, ranking, run_sweep)
 from custom_sim import INTEGRATORS
 
 # Observed order from two steps a factor 2 apart, in the asymptotic range of each method (the
 # leading error term dominates: measured 1.000 and 3.98): 1 +- 0.05 and RK4 4 +- 0.2
-# (PHYSICS.md: 1, 1, 1, 4 away from contact events).
+# (docs/physics.md: 1, 1, 1, 4 away from contact events).
 ORDER_SLACK = {"explicit_euler": 0.05, "semi_implicit_euler": 0.05, "implicit_euler": 0.05, "rk4": 0.2}
 
 
@@ -62,8 +62,10 @@ def test_ladder_counts_force_evaluations_and_drops_nothing_stable(scene_factory)
         assert r.error_l2 <= r.error_max
 
 
-def run(integrator, dt, error, time, simulator="custom", stable=True):
-    return Run(simulator, integrator, dt, 1, stable=stable, error_max=error, cpu_time=time)
+def run(integrator, dt, error, time, simulator="custom", stable=True, evals_per_step=1, spread=0.0, duration=1.0):
+    steps = int(round(duration / dt))
+    return Run(simulator, integrator, dt, steps, stable=stable, error_max=error, cpu_time=time,
+               force_evals=evals_per_step * steps, cpu_time_spread=spread)
 
 
 def test_cheapest_ignores_a_lucky_step_size():
@@ -76,6 +78,32 @@ def test_cheapest_ignores_a_lucky_step_size():
     best = cheapest(runs)
     assert (best.integrator, best.dt) == ("b", 1e-3)
     assert cheapest(runs, target=1e-6) is None
+
+
+def test_the_answer_does_not_move_with_timing_noise():
+    """Ranked by force evaluations: the same answer whatever the timings, even when noise makes
+    the cheaper run the slower one in this measurement (ranking by time would pick "b")."""
+    rng = np.random.default_rng(3)
+    answers = set()
+    for _ in range(20):
+        runs = [run("rk4", 2e-3, 5e-4, rng.uniform(1.0, 2.0), evals_per_step=4, spread=0.5),
+                run("b", 5e-4, 5e-4, rng.uniform(1.0, 2.0), spread=0.5),      # 2000 evaluations too
+                run("c", 1e-4, 1e-4, rng.uniform(1.0, 2.0), spread=0.5)]      # 10000
+        best = cheapest(runs)
+        answers.add((best.integrator, best.dt))
+        assert [r.integrator for r in ranking(runs)] == ["rk4", "b", "c"]   # equal evaluations: fewer steps first
+    assert answers == {("rk4", 2e-3)}
+
+
+def test_a_time_wins_only_beyond_the_measured_spread():
+    a, b = run("a", 1e-3, 0, 1.0, spread=0.1), run("b", 1e-3, 0, 1.05, spread=0.1)
+    assert not clearly_faster(a, b) and not clearly_faster(b, a)      # 0.05 apart, spread 0.1
+    c = run("c", 1e-3, 0, 1.5, spread=0.1)
+    assert clearly_faster(a, c) and not clearly_faster(c, a)
+    unknown = run("d", 1e-3, 0, 9.0, spread=math.nan)
+    assert not clearly_faster(a, unknown), "an unknown spread tells nothing apart"
+    win, ties = fastest([c, b, a])
+    assert win is a and ties == [b]
 
 
 @pytest.mark.slow

@@ -14,6 +14,11 @@ scene's initial state, once to warm up, then REPEATS times; the minimum is the c
 from other processes only ever adds time). Our side uses the scene's integrator and dt,
 MuJoCo's side the scene's [mujoco] integrator and dt.
 
+Beside the cost: the Newton iterations per step (implicit Euler solves a 3x3 system per
+iteration; the other integrators take none), from the stepper's own counters. With
+`before=custom_sim_at(REV)` our side is also timed as of an older revision of custom_sim, in
+alternation with today's, so that a change is shown before and after in one run.
+
 The cost is the CPU time of the stepping thread (clock_gettime(CLOCK_THREAD_CPUTIME_ID)):
 on an idle core it equals the wall time, and on a shared machine it does not charge one side
 for the time the scheduler gave to other processes. A MuJoCo run lasts 100 times longer than
@@ -23,12 +28,23 @@ us. The wall time is kept beside it (`*_wall` keys).
 from __future__ import annotations
 
 import dataclasses
+import importlib
+import io
+import re
+import subprocess
+import sys
+import tarfile
+import tempfile
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from custom_sim import Scene, Stepper
+from custom_sim.integrators import NEWTON_ITERS
+
+ROOT = Path(__file__).resolve().parents[2]   # the repository (for git revisions)
 
 REPEATS = 7                 # timed repeats after the warm-up; the minimum is reported
 TIME_BUDGET = 0.5           # s per side, scene and round: fewer repeats for slow runs (at least 2)
@@ -53,6 +69,9 @@ class BenchResult:
     integrator_mujoco: str
     dt_custom: float
     dt_mujoco: float
+    newton_per_step: float = 0.0                 # Newton iterations per step (implicit Euler)
+    ns_per_step_before: float | None = None      # ours as of the revision given to bench_scene
+    ns_per_step_before_wall: float | None = None
 
     @property
     def ratio(self) -> float:
@@ -89,22 +108,49 @@ def min_time(run, repeats: int = REPEATS, budget: float = TIME_BUDGET) -> Timing
     return Timing(cpu, wall)
 
 
-def custom_step_runner(scene: Scene, steps: int, start=None):
+def custom_step_runner(scene: Scene, steps: int, start=None, stepper=Stepper):
     """A callable taking `steps` steps of the scene from its initial state (or `start`,
-    [x, y, theta, vx, vy, omega]), recording nothing."""
+    [x, y, theta, vx, vy, omega]), recording nothing. stepper: the Stepper class (today's, or
+    an older revision's from custom_sim_at)."""
     def run():
-        stepper = Stepper(scene)
+        s = stepper(scene)
         if start is not None:
-            stepper.reset(start)
-        stepper.advance(steps)
+            s.reset(start)
+        s.advance(steps)
     return run
 
 
-def custom_ns_per_step(scene: Scene, steps: int | None = None, **timing) -> Timing:
+def custom_ns_per_step(scene: Scene, steps: int | None = None, stepper=Stepper, **timing) -> Timing:
     """ns per step (CPU, wall) of our simulator on the scene."""
     steps = steps or scene.steps
-    t = min_time(custom_step_runner(scene, steps), **timing)
+    t = min_time(custom_step_runner(scene, steps, stepper=stepper), **timing)
     return Timing(1e9 * t.cpu / steps, 1e9 * t.wall / steps)
+
+
+def newton_per_step(scene: Scene) -> float:
+    """Newton iterations per step over the scene's run (0 for the explicit integrators)."""
+    s = Stepper(scene)
+    s.advance(scene.steps)
+    return float(s.counters[NEWTON_ITERS]) / max(1, scene.steps)
+
+
+def custom_sim_at(revision: str):
+    """custom_sim as of a git revision of this repository, imported under its own name
+    (custom_sim_at_<revision>) beside today's, for before/after timings in one process.
+    Raises ValueError when git cannot produce it."""
+    name = "custom_sim_at_" + re.sub(r"\W", "_", revision)
+    if name in sys.modules:
+        return sys.modules[name]
+    proc = subprocess.run(["git", "archive", "--format=tar", revision, "custom_sim"], cwd=ROOT,
+                          capture_output=True)
+    if proc.returncode != 0:
+        raise ValueError(f"--against {revision}: git archive failed: {proc.stderr.decode().strip()}")
+    folder = Path(tempfile.mkdtemp(prefix="bench_before_"))
+    with tarfile.open(fileobj=io.BytesIO(proc.stdout)) as tar:
+        tar.extractall(folder, filter="data")
+    (folder / "custom_sim").rename(folder / name)
+    sys.path.insert(0, str(folder))
+    return importlib.import_module(name)
 
 
 def mujoco_setup(scene: Scene, integrator: str | None = None, dt: float | None = None):
@@ -158,22 +204,29 @@ def mujoco_ns_per_step(scene: Scene, steps: int | None = None, integrator: str |
     return best[loop], loop
 
 
-def bench_scene(scene: Scene, rounds: int = ROUNDS, **timing) -> BenchResult:
-    """Both simulators on one scene, in alternation in this process, `rounds` times."""
+def bench_scene(scene: Scene, rounds: int = ROUNDS, before=None, **timing) -> BenchResult:
+    """Both simulators on one scene, in alternation in this process, `rounds` times; with
+    `before` (a module from custom_sim_at) that revision's stepper too, in the same rounds."""
     dt_mj = scene.mujoco.dt or scene.dt
     steps_mj = max(1, int(round(scene.duration / dt_mj)))
-    ours = theirs = Timing(np.inf, np.inf)
+    ours = theirs = old = Timing(np.inf, np.inf)
     loops = {}
     for _ in range(max(1, rounds)):
         t = custom_ns_per_step(scene, **timing)
         ours = Timing(min(ours.cpu, t.cpu), min(ours.wall, t.wall))
+        if before is not None:
+            t = custom_ns_per_step(scene, stepper=before.Stepper, **timing)
+            old = Timing(min(old.cpu, t.cpu), min(old.wall, t.wall))
         t, loop = mujoco_ns_per_step(scene, steps_mj, **timing)
         if t.cpu < theirs.cpu:
             loops["best"] = loop
         theirs = Timing(min(theirs.cpu, t.cpu), min(theirs.wall, t.wall))
     loop = loops["best"]
     return BenchResult(scene.name, scene.steps, ours.cpu, theirs.cpu, ours.wall, theirs.wall, loop,
-                       scene.integrator, scene.mujoco.integrator, scene.dt, dt_mj)
+                       scene.integrator, scene.mujoco.integrator, scene.dt, dt_mj,
+                       newton_per_step=newton_per_step(scene),
+                       ns_per_step_before=None if before is None else old.cpu,
+                       ns_per_step_before_wall=None if before is None else old.wall)
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,6 @@
 """Work-precision sweep: what each integrator's accuracy costs, in both simulators.
 
-For every scene (following DiffEqDevTools' work-precision diagrams, PHYSICS.md "Accuracy
+For every scene (following DiffEqDevTools' work-precision diagrams, docs/physics.md "Accuracy
 against cost"):
 
   reference    compare.accuracy.reference: custom_sim's equations by DOP853 at tight tolerance with
@@ -57,6 +57,7 @@ CONVERGED_BUDGET = 20.0   # s: longest run of MuJoCo's converged solution (the 6
 MUJOCO_RK4_STEP = 20e-6   # s: a MuJoCo RK4 step of these twins, generously (measured 7-19 us)
 TIMING_BUDGET = 0.3   # s: repeats of a run's timing stop when they add up to this
 MAX_REPEATS = 15
+MIN_REPEATS = 2     # a spread needs two timings
 TARGET_ERROR = 1e-3   # m: "what is the cheapest way to reach 1 mm here?"
 # Initial-height change (m) whose growth measures how strongly the motion amplifies errors:
 # far above the reference's own error (1e-9 m), far below any measured error's effect.
@@ -91,6 +92,7 @@ class Run:
     cpu_time: float = math.nan           # s, stepping thread
     wall_time: float = math.nan
     repeats: int = 0
+    cpu_time_spread: float = math.nan    # s, max - min of the repeats' CPU times: the noise
     force_evals: int = 0
     states: np.ndarray | None = field(default=None, repr=False)   # (K+1, 6) on the grid
 
@@ -147,13 +149,15 @@ def custom_grid_run(scene: Scene, integrator: str, dt: float) -> tuple[np.ndarra
     return np.array(out), int(stepper.counters[0])
 
 
-def timed(run) -> tuple[float, float, int]:
-    """(min CPU time, min wall time, repeats) of run() -> (cpu s, wall s): one warm-up call,
-    then as many repeats as fit in TIMING_BUDGET (1 to MAX_REPEATS)."""
+def timed(run) -> tuple[float, float, int, float]:
+    """(min CPU time, min wall time, repeats, CPU spread) of run() -> (cpu s, wall s): one
+    warm-up call, then as many repeats as fit in TIMING_BUDGET (MIN_REPEATS to MAX_REPEATS);
+    the spread max - min of the repeats' CPU times is how far noise moved them."""
     _, first = run()
-    repeats = int(np.clip(math.ceil(TIMING_BUDGET / max(first, 1e-9)), 1, MAX_REPEATS))
+    repeats = int(np.clip(math.ceil(TIMING_BUDGET / max(first, 1e-9)), MIN_REPEATS, MAX_REPEATS))
     times = [run() for _ in range(repeats)]
-    return min(t[0] for t in times), min(t[1] for t in times), repeats
+    cpu = [t[0] for t in times]
+    return min(cpu), min(t[1] for t in times), repeats, max(cpu) - min(cpu)
 
 
 def custom_wall(scene: Scene, integrator: str, dt: float):
@@ -190,7 +194,7 @@ def ladder_runs(simulator: str, scene: Scene, integrator: str, ref_states: np.nd
         run.force_evals = evals
         if run.stable:
             run.error_max, run.error_l2, run.angle_error_max = position_errors(states, ref_states)
-            run.cpu_time, run.wall_time, run.repeats = timed(wall(scene, integrator, dt))
+            run.cpu_time, run.wall_time, run.repeats, run.cpu_time_spread = timed(wall(scene, integrator, dt))
             last_time = run.wall_time
             run.states = states
         runs.append(run)
@@ -369,6 +373,12 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
 
 # ---------------------------------------------------------------------------------------
 # The answer to "what is the cheapest way to reach 1 mm here?"
+#
+# Ranked by a cost that noise cannot move: force evaluations (then steps), counted, not timed.
+# Wall and CPU times are shown beside them; one time beats another only when they differ by more
+# than both measured spreads (clearly_faster), so a rerun on a busy machine gives the same answer.
+# Force evaluations compare like with like inside one simulator; implicit Euler also builds one
+# Jacobian per Newton iteration, which they do not count (its time beside them shows it).
 
 
 def _error(run: Run, self_error: bool) -> float:
@@ -384,11 +394,50 @@ def within(run: Run, runs: list[Run], target: float = TARGET_ERROR, self_error: 
     return all(_error(r, self_error) <= target for r in finer)
 
 
+def cost(run: Run) -> tuple[int, int, float]:
+    """The ranking key: (force evaluations, steps, -dt); counted, so the same on every rerun."""
+    return (run.force_evals, run.steps, -run.dt)
+
+
+def qualifying(runs: list[Run], target: float = TARGET_ERROR, self_error: bool = False) -> list[Run]:
+    """The stable runs `within` target (m)."""
+    return [r for r in runs if r.stable and math.isfinite(_error(r, self_error))
+            and within(r, runs, target, self_error)]
+
+
 def cheapest(runs: list[Run], target: float = TARGET_ERROR, self_error: bool = False) -> Run | None:
-    """The run with the smallest CPU time that is `within` target (m)."""
-    ok = [r for r in runs if r.stable and math.isfinite(_error(r, self_error))
-          and within(r, runs, target, self_error)]
-    return min(ok, key=lambda r: r.cpu_time) if ok else None
+    """The run with the fewest force evaluations (then steps) that is `within` target (m)."""
+    ok = qualifying(runs, target, self_error)
+    return min(ok, key=cost) if ok else None
+
+
+def ranking(runs: list[Run], target: float = TARGET_ERROR, self_error: bool = False) -> list[Run]:
+    """Each integrator's cheapest run within target, ordered by cost (fewest force evaluations
+    first): one run per integrator and simulator."""
+    best = {}
+    for r in qualifying(runs, target, self_error):
+        key = (r.simulator, r.integrator)
+        if key not in best or cost(r) < cost(best[key]):
+            best[key] = r
+    return sorted(best.values(), key=cost)
+
+
+def clearly_faster(a: Run, b: Run) -> bool:
+    """a took less CPU time than b by more than the spread of either's repeats (False when a
+    spread is unknown): only then does the time tell the two apart."""
+    spreads = (a.cpu_time_spread, b.cpu_time_spread)
+    if not all(math.isfinite(x) for x in spreads):
+        return False
+    return b.cpu_time - a.cpu_time > max(spreads)
+
+
+def fastest(runs: list[Run]) -> tuple[Run | None, list[Run]]:
+    """Among runs (e.g. a ranking): the one with the least CPU time, and the others that time
+    cannot tell from it (not clearly slower)."""
+    if not runs:
+        return None, []
+    win = min(runs, key=lambda r: r.cpu_time)
+    return win, [r for r in runs if r is not win and not clearly_faster(win, r)]
 
 
 def best_error(runs: list[Run], self_error: bool = False) -> Run | None:

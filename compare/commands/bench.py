@@ -3,16 +3,24 @@
 Ours runs compiled without recording (custom_sim.Stepper.advance); MuJoCo runs its own C loop
 (mj_step with nstep, or rollout: the faster). Each side takes the scene's full duration from
 its initial state, warmed up, minimum of repeats of the stepping thread's CPU time (equal to
-the wall time on an idle core; the wall figures are printed too). --json prints one object
-per scene per line: name, ns_per_step_custom, ns_per_step_mujoco, ratio (and the wall-clock
-figures and settings). --linearity also times n and 10 n steps from the scene's end state
-and prints the cost ratio (10 = linear).
+the wall time on an idle core; the wall figures are printed too). `newton/step` is the
+Newton iterations per step (implicit Euler only; the other integrators solve nothing).
+--json prints one object per scene per line: name, ns_per_step_custom, ns_per_step_mujoco,
+ratio, newton_per_step (and the wall-clock figures and settings). --linearity also times n
+and 10 n steps from the scene's end state and prints the cost ratio (10 = linear).
+--integrator runs our side with another integrator (e.g. implicit_euler on every scene).
+--against REV also times custom_sim as of git revision REV, in the same rounds: before and
+after in one run. --cold measures a first `run` on an empty numba cache instead: compile
+time and run time apart (with --against REV, that revision's checkout beside today's).
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 
+from custom_sim import INTEGRATORS
 
+from ..cli import BadInput
 from ..scenarios import load_all
 
 SPEED_GOAL = 50.0   # issue 5: our step at least 50 times cheaper than MuJoCo's
@@ -28,18 +36,34 @@ def add_arguments(parser) -> None:
                         help="timed repeats after the warm-up (default: 7, fewer for slow scenes)")
     parser.add_argument("--rounds", type=int, default=None, metavar="N",
                         help="times both sides are timed in alternation, minimum kept (default: 3)")
+    parser.add_argument("--integrator", choices=sorted(INTEGRATORS), default=None,
+                        help="our side's integrator instead of each scene's own")
+    parser.add_argument("--against", metavar="REV", default=None,
+                        help="also time custom_sim as of this git revision, in the same rounds")
+    parser.add_argument("--cold", action="store_true",
+                        help="time a first `run` on an empty numba cache: compile and run apart")
 
 
 def main(args) -> int:
     scenes = load_all(args.scenes)
-    from ..accuracy.benchmark import bench_scene, linearity
+    if args.cold:
+        return cold(args)
+    from ..accuracy.benchmark import bench_scene, custom_sim_at, linearity
 
+    try:
+        before = custom_sim_at(args.against) if args.against else None
+    except ValueError as err:
+        raise BadInput(str(err)) from None
     timing = {} if args.repeats is None else {"repeats": max(1, args.repeats)}
     if not args.json:
-        print(f"{'scene':<18}{'custom ns/step':>16}{'mujoco ns/step':>16}{'ratio':>9}{'wall ratio':>12}   "
-              f"(custom integrator, dt | mujoco integrator, dt, loop)")
+        extra = f"{'before ns/step':>16}{'after/before':>14}" if before else ""
+        print(f"{'scene':<18}{'custom ns/step':>16}{'mujoco ns/step':>16}{'ratio':>9}{'wall ratio':>12}"
+              f"{'newton/step':>13}{extra}   (custom integrator, dt | mujoco integrator, dt, loop)")
     for scene in scenes:
-        r = bench_scene(scene, **({} if args.rounds is None else {"rounds": max(1, args.rounds)}), **timing)
+        if args.integrator:
+            scene = dataclasses.replace(scene, integrator=args.integrator)
+        r = bench_scene(scene, before=before, **({} if args.rounds is None else {"rounds": max(1, args.rounds)}),
+                        **timing)
         row = r.as_dict()
         lin = linearity(scene, **timing) if args.linearity else None
         if lin is not None:
@@ -49,10 +73,42 @@ def main(args) -> int:
             continue
         goal = "" if r.ratio >= SPEED_GOAL else f"  below the {SPEED_GOAL:g}x goal"
         wall = r.ns_per_step_mujoco_wall / r.ns_per_step_custom_wall
-        print(f"{r.name:<18}{r.ns_per_step_custom:>16.1f}{r.ns_per_step_mujoco:>16.1f}{r.ratio:>8.1f}x{wall:>11.1f}x   "
+        extra = (f"{r.ns_per_step_before:>16.1f}{r.ns_per_step_custom / r.ns_per_step_before:>13.2f}x"
+                 if before else "")
+        print(f"{r.name:<18}{r.ns_per_step_custom:>16.1f}{r.ns_per_step_mujoco:>16.1f}{r.ratio:>8.1f}x{wall:>11.1f}x"
+              f"{r.newton_per_step:>13.2f}{extra}   "
               f"({r.integrator_custom}, {r.dt_custom:g} | {r.integrator_mujoco}, {r.dt_mujoco:g}, "
               f"{r.mujoco_loop}){goal}", flush=True)
         if lin is not None:
             print(f"{'':<18}10x steps cost {lin.custom_ratio:.2f}x (custom), "
                   f"{lin.mujoco_ratio:.2f}x (mujoco)", flush=True)
+    return 0
+
+
+def cold(args) -> int:
+    """--cold: the first run's compile time and run time, apart (see accuracy/cold_start.py)."""
+    import tempfile
+    from pathlib import Path
+
+    from ..accuracy import cold_start
+
+    names = list(args.scenes)
+    with tempfile.TemporaryDirectory() as work:
+        trees = [("today", cold_start.ROOT)]
+        if args.against:
+            try:
+                trees.append((args.against, cold_start.checkout(args.against, Path(work))))
+            except ValueError as err:
+                raise BadInput(str(err)) from None
+        load = cold_start.load_average()
+        results = cold_start.measure([tree for _, tree in trees], names)
+        labelled = [(label, r) for (label, _), r in zip(trees, results)]
+        if args.json:
+            for label, r in labelled:
+                print(json.dumps({"tree": label, **{k: dataclasses.asdict(getattr(r, k)) for k in
+                                                   ("compile", "run_warm", "first_run", "second_run")}}))
+        else:
+            print("`" + " ".join(["python -m compare run", *names]) + "` on an empty numba cache:")
+            print(cold_start.table(labelled))
+        print(f"load average (1, 5, 15 min) before: {load}; after: {cold_start.load_average()}")
     return 0

@@ -22,12 +22,16 @@ DEMO = Path(__file__).resolve().parent.parent / "game" / "demo_goal.json"
 
 
 def add_arguments(parser) -> None:
+    from compare.game.game import SUMMARY_KEYS
+
+    parser.epilog = "What --headless prints (one JSON object):\n" + "\n".join(
+        f"  {key:<28} {text}" for key, text in SUMMARY_KEYS.items())
     parser.add_argument("--record", metavar="FILE", help="save every key event with its physics step (JSON)")
     parser.add_argument("--replay", metavar="FILE",
                         help="play a recording back exactly ('demo': the shipped demo recording)")
     parser.add_argument("--video", metavar="OUT", help="with --replay: render to OUT (.mp4 or .gif) without a screen")
     parser.add_argument("--headless", action="store_true",
-                        help='with --replay: print {"goals": n, "shots": n, "kick_distances": [...], ...}')
+                        help="with --replay: print the outcome as one JSON line (every key below)")
     parser.add_argument("--fps", type=float, default=None,
                         help="video frame rate (default 50 for .mp4, 25 for .gif)")
     parser.add_argument("--seed", type=int, default=None,

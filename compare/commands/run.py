@@ -14,6 +14,8 @@ from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 
+from custom_sim import warm_up
+
 from ..cli import output_folder
 from ..scenarios import load_all
 
@@ -138,9 +140,7 @@ def main(args) -> int:
     if loader is not None:
         simulator = loader(args, scenes)  # bad input is raised here, before anything is written
     out = output_folder(args.out)
-    warm_up = _warm_up()
-    if warm_up:
-        warm_up()
+    warm_up()  # compile once here, before the workers start (they inherit it or load the cache)
     out.mkdir(parents=True, exist_ok=True)
 
     from ..report import write_index
@@ -158,9 +158,3 @@ def main(args) -> int:
         print(f"error: {why}", file=sys.stderr)
     print(f"report: {index}")
     return 0 if not failed and all(r["pass"] for r in ordered) else 1
-
-
-def _warm_up():
-    """custom_sim's compile-once hook, where it has one (compiled before the workers start)."""
-    import custom_sim
-    return getattr(custom_sim, "warm_up", None)

@@ -6,7 +6,8 @@ and RMS position error against the reference, wall time as the minimum of repeat
 evaluations), MuJoCo's own converged solution, and the largest stable step of every
 integrator by bisection beside the linear theory. Writes DIR/sweep/index.md (the answer to
 "what is the cheapest way to reach 1 mm here?", the stability table, a section per scene),
-DIR/sweep/<scene>_workprecision.png and DIR/sweep/results.json; reference solutions are
+DIR/sweep/<scene>_workprecision.png, DIR/sweep/results.json and DIR/sweep/cheapest.md (the
+README's table of the cheapest way to 1 mm, with the machine it was measured on); reference solutions are
 cached (--cache). Uses every core. Exit status: 0 done, 2 bad input.
 """
 from __future__ import annotations
@@ -77,6 +78,8 @@ def main(args) -> int:
             plot_scene(sweep, tmp / f"{sweep.scene.name}_workprecision.png")
         write_json(results, tmp / "results.json", runtime, jobs)
         write_index(results, tmp / "index.md", runtime, jobs)
+        (tmp / "cheapest.md").write_text(cheapest_table(results, " ".join(["python -m compare sweep", *args.scenes]))
+                                         + "\n")
         if folder.exists():
             shutil.rmtree(folder)
         os.replace(tmp, folder)
@@ -85,7 +88,8 @@ def main(args) -> int:
     index = folder / "index.md"
     for sweep in results:
         print(f"{sweep.scene.name}: {answer(sweep)}")
-    print(f"sweep took {runtime:.0f} s on {jobs} worker(s); report: {index}")
+    print(f"sweep took {runtime:.0f} s on {jobs} worker(s); report: {index}; "
+          f"the cheapest-way table: {folder / 'cheapest.md'}")
     return 0
 
 
@@ -107,25 +111,49 @@ def _name(run) -> str:
     return LABELS.get(run.integrator, run.integrator) if run.simulator == "custom" else f"MuJoCo {run.integrator}"
 
 
+def _timing(run) -> str:
+    """CPU time with its measured spread: '0.11 ms (+- 0.01 ms)'."""
+    spread = run.cpu_time_spread
+    return _ms(run.cpu_time) + (f" (+- {_ms(spread)})" if math.isfinite(spread) else "")
+
+
+def _cost(run) -> str:
+    return f"{run.force_evals} force evaluations ({run.steps} steps)"
+
+
+def _time_verdict(win, others) -> str:
+    """What the CPU times say about win against others, only as far as their spread allows."""
+    from ..accuracy.workprecision import fastest
+
+    if not others:
+        return ""
+    quickest, ties = fastest([win, *others])
+    if quickest is win:
+        return "; also the fastest in CPU time" + (
+            f" (within the timing spread of {', '.join(_name(r) for r in ties)})" if ties else ", beyond the timing spread")
+    if win in ties:
+        return f"; by CPU time {_name(quickest)} ({_timing(quickest)}) cannot be told from it"
+    return f"; by CPU time {_name(quickest)} at dt = {quickest.dt:g} s is faster beyond the spread ({_timing(quickest)})"
+
+
 def answer(sweep) -> str:
-    """'What is the cheapest way to reach 1 mm here?' in a few plain sentences."""
-    from ..accuracy.workprecision import TARGET_ERROR, best_error, cheapest
+    """'What is the cheapest way to reach 1 mm here?' in a few plain sentences: the run with the
+    fewest force evaluations (counted, so the same on every rerun), its time beside it, and what
+    the times say only where they differ by more than their measured spread."""
+    from ..accuracy.workprecision import TARGET_ERROR, best_error, clearly_faster, ranking
 
     ours = [r for r in sweep.runs if r.simulator == "custom"]
     theirs = [r for r in sweep.runs if r.simulator == "mujoco"]
     parts = []
-    win = cheapest(ours)
+    ranked = ranking(ours)
+    win = ranked[0] if ranked else None
     if win:
-        text = (f"ours: {_name(win)} at dt = {win.dt:g} s ({_ms(win.cpu_time)} for the "
-                f"{sweep.scene.duration:g} s run, {win.force_evals} force evaluations, max error {_mm(win.error_max)})")
-        others = sorted((c for c in (cheapest([r for r in ours if r.integrator == i])
-                                     for i in {r.integrator for r in ours} if i != win.integrator) if c),
-                        key=lambda r: r.cpu_time)
-        if others:
-            nxt = others[0]
-            text += (f"; next {_name(nxt)} at dt = {nxt.dt:g} s, {nxt.cpu_time / win.cpu_time:.1f}x "
-                     f"the time")
-        parts.append(text + ".")
+        text = (f"ours: {_name(win)} at dt = {win.dt:g} s, {_cost(win)}, {_timing(win)} for the "
+                f"{sweep.scene.duration:g} s run, max error {_mm(win.error_max)}")
+        if len(ranked) > 1:
+            nxt = ranked[1]
+            text += f"; next {_name(nxt)} at dt = {nxt.dt:g} s, {nxt.force_evals} force evaluations, {_timing(nxt)}"
+        parts.append(text + _time_verdict(win, ranked[1:]) + ".")
     else:
         best = best_error(ours)
         why = ""
@@ -134,14 +162,20 @@ def answer(sweep) -> str:
             why = (f" The motion amplifies a small error about {amp:.0f}-fold (a tumbling landing), "
                    f"so 1 mm at the end needs about {_mm(TARGET_ERROR / amp)} before it.")
         parts.append(f"ours: no step on the ladder reaches 1 mm; the best is {_name(best)} at "
-                     f"dt = {best.dt:g} s ({_mm(best.error_max)}, {_ms(best.cpu_time)}).{why}"
+                     f"dt = {best.dt:g} s ({_mm(best.error_max)}, {_timing(best)}).{why}"
                      if best else "ours: no stable run.")
     if theirs:
-        own = cheapest(theirs, self_error=True)
+        own_ranked = ranking(theirs, self_error=True)
+        own = own_ranked[0] if own_ranked else None
         if own:
-            parts.append(f"MuJoCo: {own.integrator} at dt = {own.dt:g} s ({_ms(own.cpu_time)}) stays within 1 mm "
-                         f"of its own converged solution ({_mm(own.error_max_self)})"
-                         + (f", {own.cpu_time / win.cpu_time:.0f}x our cheapest." if win else "."))
+            if win and clearly_faster(win, own):
+                versus = f", {own.cpu_time / win.cpu_time:.0f}x the time of our cheapest"
+            elif win:
+                versus = ", not distinguishable in time from our cheapest"
+            else:
+                versus = ""
+            parts.append(f"MuJoCo: {own.integrator} at dt = {own.dt:g} s, {_cost(own)}, {_timing(own)}, stays "
+                         f"within 1 mm of its own converged solution ({_mm(own.error_max_self)}){versus}.")
         else:
             best = best_error(theirs, self_error=True)
             if best:
@@ -152,14 +186,70 @@ def answer(sweep) -> str:
             parts.append(f"(MuJoCo's converged solution itself moves {_mm(floor)} when its step doubles, so "
                          f"its own error is known only to about that.)")
         model = sweep.mujoco_converged.get("error_max", math.nan)
-        vs_ref = cheapest(theirs)
+        vs_ref = ranking(theirs)
         if vs_ref:
-            parts.append(f"Against our reference MuJoCo reaches 1 mm with {vs_ref.integrator} at dt = {vs_ref.dt:g} s "
-                         f"({_ms(vs_ref.cpu_time)}).")
+            parts.append(f"Against our reference MuJoCo reaches 1 mm with {vs_ref[0].integrator} at "
+                         f"dt = {vs_ref[0].dt:g} s: {_cost(vs_ref[0])}, {_timing(vs_ref[0])}.")
         elif math.isfinite(model):
             parts.append(f"Against our reference it cannot: its converged solution itself is {_mm(model)} "
                          f"from ours (model difference, not step size).")
     return " ".join(parts)
+
+
+def machine() -> str:
+    """The machine a table was measured on: CPU model, cores, load, versions, date (UTC)."""
+    import datetime
+    import platform
+
+    cpu = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    try:
+        load = "load average " + " ".join(f"{x:.1f}" for x in os.getloadavg()) + " (1, 5, 15 min)"
+    except OSError:
+        load = "load unknown"
+    versions = []
+    for name in ("numba", "mujoco"):
+        try:
+            versions.append(f"{name} {__import__(name).__version__}")
+        except ImportError:
+            pass
+    when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    return (f"{cpu}, {os.cpu_count()} cores, {load}; {platform.system()} {platform.release()}, "
+            f"Python {platform.python_version()}, {', '.join(versions)}; {when}")
+
+
+def cheapest_table(results, command: str = "python -m compare sweep") -> str:
+    """The README's table: for each scene, the fewest force evaluations that reach 1 mm in each
+    simulator, with the CPU time and its spread beside them, and the machine it was measured on."""
+    from ..accuracy.workprecision import ranking
+
+    def cell(run, self_error=False):
+        if run is None:
+            return "not within 1 mm on the ladder", "–"
+        return (f"{_name(run)}, dt {run.dt:g} s: {run.force_evals} force evaluations",
+                _timing(run))
+
+    lines = [f"Measured by `{command}` on {machine()}.", "",
+             "| scene | custom_sim: fewest force evaluations to 1 mm | CPU time (spread) "
+             "| MuJoCo: fewest to 1 mm of its own converged solution | CPU time (spread) |",
+             "|---|---|---|---|---|"]
+    for sweep in results:
+        ours = ranking([r for r in sweep.runs if r.simulator == "custom"])
+        theirs = ranking([r for r in sweep.runs if r.simulator == "mujoco"], self_error=True)
+        a, at = cell(ours[0] if ours else None)
+        b, bt = cell(theirs[0] if theirs else None) if any(r.simulator == "mujoco" for r in sweep.runs) else ("not run", "–")
+        lines.append(f"| {sweep.scene.name} | {a} | {at} | {b} | {bt} |")
+    lines += ["", "Ranked by force evaluations (counted, so a rerun gives the same answer), then steps; "
+              "the CPU time is the minimum over repeats, and the spread how far the repeats differed. "
+              "Force evaluations compare runs of one simulator; between the two, only the times do, and "
+              "only where they differ by more than their spread."]
+    return "\n".join(lines)
 
 
 # ---------------------------------------------------------------------------------------
@@ -260,7 +350,7 @@ def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
         f"Sweep of {len(results)} scene(s) in {runtime:.0f} s on {jobs} worker process(es) "
         f"(`python -m compare sweep`).",
         "",
-        "How it is measured (PHYSICS.md, \"Accuracy against cost\"):",
+        "How it is measured (docs/physics.md, \"Accuracy against cost\"):",
         "",
         f"- **Reference**: the same equations as custom_sim solved by scipy's DOP853 at rtol = atol = "
         f"{REFERENCE_RTOL:g}, each contact switch (a point touching or leaving, the kink of the damping law; "
@@ -286,9 +376,14 @@ def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
         "",
         "## What is the cheapest way to reach 1 mm here?",
         "",
-        "The step size with the least time whose max COM position error over the whole run is within "
-        "1 mm, and stays within it at every finer step on the ladder (a fixed step's error jumps about as the "
-        "contact switches fall at different places inside a step; one lucky step size is not an answer).",
+        "The step size with the fewest force evaluations whose max COM position error over the whole run is "
+        "within 1 mm, and stays within it at every finer step on the ladder (a fixed step's error jumps about "
+        "as the contact switches fall at different places inside a step; one lucky step size is not an "
+        "answer). Force evaluations are counted, so the answer does not move with the machine's load; the "
+        "CPU time stands beside them with the spread of its repeats, and a time is called faster only when "
+        "it differs by more than that spread.",
+        "",
+        cheapest_table(results),
         "",
     ]
     for sweep in results:

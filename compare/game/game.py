@@ -59,6 +59,39 @@ class KeyEvent:
     action: str = PRESS
 
 
+# What each key of Game.summary() (the line `play --headless` prints) counts.
+SUMMARY_KEYS = {
+    "goals": "rounds that ended in a goal: the whole ball crossed the goal line under the bar, "
+             "last kicked from at least 1 m",
+    "shots": "balls that reached the goal line (under or over the bar) last kicked from at least 1 m; "
+             "same as shots_from_1m_or_more",
+    "kick_distances": "for each ball that reached the goal line after a kick, the distance (m) from the "
+                      "ball's centre to the goal mouth at the last step the player's force acted; "
+                      "same as last_kick_distances_m",
+    "too_close": "balls that crossed under the bar but were last kicked from under 1 m (shown, not "
+                 "counted); same as goals_too_close_not_counted",
+    "kicks": "presses of W, A, S or D over the whole game, in every round, whether or not the ball "
+             "reached the goal; same as key_presses",
+    "rounds": "passes played (rounds begun); same as passes_played",
+    "outcomes": "how each round ended: goal, too close, over, no kick, out, time; same as round_outcomes",
+    "steps": "physics steps simulated; same as physics_steps",
+    "seed": "the seed of the teammate's passes; same as pass_seed",
+    "key_presses": "presses of W, A, S or D over the whole game",
+    "balls_at_goal_line": "balls that reached the goal line after a kick (one per entry of "
+                          "last_kick_distances_m and of attempts)",
+    "last_kick_distances_m": "for each ball at the goal line, the distance (m) to the goal mouth of "
+                             "its last kick",
+    "shots_from_1m_or_more": "balls at the goal line last kicked from at least 1 m",
+    "goals_too_close_not_counted": "balls under the bar last kicked from under 1 m",
+    "passes_played": "rounds begun",
+    "round_outcomes": "each round's outcome, in order",
+    "physics_steps": "physics steps simulated",
+    "pass_seed": "the seed of the teammate's passes",
+    "attempts": "one entry per ball at the goal line: its round (from 0), outcome, "
+                "last_kick_distance_m and whether it counted as a shot",
+}
+
+
 class Game:
     """The kick-the-ball game: one ball, the goal, the referee, rounds of passes.
 
@@ -208,16 +241,29 @@ class Game:
 
     # --------------------------------------------------------------------------- results
     def summary(self) -> dict:
-        """The outcome as plain data: what `play --headless` prints."""
+        """The outcome as plain data: what `play --headless` prints (SUMMARY_KEYS says what
+        each key counts; the short keys came first and stay, the long ones say it in the name)."""
         ref = self.referee
+        distances = [round(a.kick_distance, 4) for a in ref.attempts]
         return {
             "goals": ref.goals,
             "shots": ref.shots,
-            "kick_distances": [round(a.kick_distance, 4) for a in ref.attempts],
+            "kick_distances": distances,
             "too_close": ref.too_close,
             "kicks": ref.kicks,
             "rounds": self.round + 1,
             "outcomes": list(ref.outcomes),
             "steps": self.step,
             "seed": self.seed,
+            "key_presses": ref.kicks,
+            "balls_at_goal_line": len(ref.attempts),
+            "last_kick_distances_m": distances,
+            "shots_from_1m_or_more": ref.shots,
+            "goals_too_close_not_counted": ref.too_close,
+            "passes_played": self.round + 1,
+            "round_outcomes": list(ref.outcomes),
+            "physics_steps": self.step,
+            "pass_seed": self.seed,
+            "attempts": [{"round": a.round, "outcome": a.outcome, "last_kick_distance_m": round(a.kick_distance, 4),
+                          "counted": a.counted} for a in ref.attempts],
         }

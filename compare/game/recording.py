@@ -155,7 +155,9 @@ class Replay:
         return self.game
 
     def matches_recording(self) -> bool | None:
-        """Whether the outcome equals the one saved with the recording (None if none was saved)."""
+        """Whether the outcome equals the one saved with the recording (None if none was saved),
+        on the keys the recording saved (an older recording lacks the keys added since)."""
         if self.recording.result is None:
             return None
-        return self.game.summary() == self.recording.result
+        summary = self.game.summary()
+        return all(summary.get(key) == value for key, value in self.recording.result.items())

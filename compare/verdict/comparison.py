@@ -246,7 +246,7 @@ def stability_warnings(scene: Scene) -> list[str]:
 
 
 def metrics_json(result: Result) -> dict:
-    """metrics.json: the keys CONTRACT.md names, then ours."""
+    """metrics.json: the keys docs/report-files.md promises, then ours."""
     scene, tested, twin = result.scene, result.under_test, result.mujoco
     m = result.metrics
     limit = stable_step(scene)

@@ -35,7 +35,7 @@ def differences(a: Trajectory, b: Trajectory) -> dict[str, np.ndarray]:
 
 
 def compare(a: Trajectory, b: Trajectory) -> dict[str, float]:
-    """Scalar error metrics of b against a (CONTRACT.md keys plus velocity errors)."""
+    """Scalar error metrics of b against a (the keys of docs/report-files.md plus velocity errors)."""
     d = differences(a, b)
     pos = d["position"]
     return {
