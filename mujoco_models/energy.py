@@ -1,4 +1,4 @@
-"""A twin's energy from MuJoCo's own state (J), per CONTRACT.md's formula:
+"""A twin's energy from MuJoCo's own state (J), by the formula of docs/report-files.md:
 
     kinetic        MuJoCo's qvel^T M qvel / 2 (sensor e_kinetic)
     gravitational  MuJoCo's potential - sum m g . x_com = m g y (sensor e_potential; 0 without
