@@ -7,7 +7,7 @@ the same start state, so a twin of the batch is bit for bit simulate_mujoco's (a
 it). Twins with the same number of steps share one rollout call, `threads` MjData (one per
 thread). A twin has diverged when MuJoCo reset its state (the time column of rollout's rows
 falls back: mjWARN_BADQACC resets the data, and the warning count of a shared MjData cannot
-say which model tripped it) or when the state leaves custom_sim's healthy range.
+say which model tripped it) or when the twin's own guard (guard.py) finds the state blown up.
 """
 from __future__ import annotations
 
@@ -17,11 +17,10 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from custom_sim.integrators import first_unhealthy
 from custom_sim.scene import Scene
-from custom_sim.simulate import blowup_guard
 
 from .frames import joint_count, states_from_q
+from .guard import first_blowup
 from .run import setup_rollout
 
 # Largest array of rollout rows one call may fill (bytes): models of a group are rolled out
@@ -83,8 +82,10 @@ def _twin_run(scene: Scene, setup, rows: np.ndarray, samples: np.ndarray) -> Twi
     if stop >= 0:
         note = f"{what} met a bad acceleration at step {stop} and reset the state"
     else:
-        stop = int(first_unhealthy(np.ascontiguousarray(states),
-                                   blowup_guard(scene, twin.props, states[0], applied_input=False)))
+        rb, g = twin.props, (scene.g if scene.has("gravity") else 0.0)
+        x, y, theta, vx, vy, om = states.T
+        kinetic = 0.5 * rb.mass * (vx * vx + vy * vy) + 0.5 * rb.inertia * om * om  # J, the rows' own
+        stop = first_blowup(states, kinetic, rb.mass * g * y, rb, g)
         if stop >= 0:
             note = f"{what} blew up at step {stop} (t = {stop * twin.dt:.6g} s)"
     picked = states[samples].copy()

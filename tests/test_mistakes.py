@@ -38,8 +38,14 @@ SHOWN_ON = {
     "contact_height_ignored": ("point_drop", "semi_implicit_euler"),
     "corners_not_rotated": ("box_drop", "explicit_euler"),
 }
-WINDOW = 500          # steps, from BEFORE steps ahead of the first contact
+WINDOW = 500          # steps of STEP_UNIT, from BEFORE of them ahead of the first contact
 BEFORE = 200
+STEP_UNIT = 1e-4      # s: the windows are times, counted in steps of this size
+
+
+def steps_of(scene, n):
+    """n steps of STEP_UNIT in the scene's own steps."""
+    return max(1, round(n * STEP_UNIT / scene.dt))
 
 
 def start_near_contact(scene):
@@ -48,11 +54,12 @@ def start_near_contact(scene):
     states = simulate(sc).states()
     depth, _ = contact_state(Equations.from_scene(scene), states)
     touch = np.flatnonzero((depth > 0).any(axis=1))
-    return states[max(0, (touch[0] if touch.size else 0) - BEFORE)]
+    return states[max(0, (touch[0] if touch.size else 0) - steps_of(scene, BEFORE))]
 
 
 def variant_trajectory(mistake, scene, integrator, steps=WINDOW):
     f = mistake.step_fn(scene, integrator)
+    steps = steps_of(scene, steps)
     out = np.empty((steps + 1, 6))
     out[0] = start_near_contact(scene)
     for i in range(steps):

@@ -18,7 +18,7 @@ SEED = str(ROOT / "examples" / "seed_sim.py")
 
 @pytest.fixture(scope="module")
 def scene():
-    return dataclasses.replace(load("box_drop"), duration=0.01)   # 100 steps
+    return dataclasses.replace(load("box_drop"), duration=0.01, dt=1e-4)   # 100 steps
 
 
 def module(tmp_path, body, name="user_sim"):

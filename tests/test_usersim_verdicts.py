@@ -85,7 +85,7 @@ def test_the_buggy_copy_fails_identical(buggy_box_drop):
 def test_the_diagnosis_names_both_mistakes(buggy_box_drop):
     _, _, diag = buggy_box_drop
     assert [n["name"] for n in diag["named"]] == ["friction_on_com_velocity", "box_inertia_about_corner"]
-    assert diag["trajectory"]["step"]["first_step"] == 2095   # the first step in contact
+    assert diag["trajectory"]["step"]["first_step"] == 4188   # the first step from a touching state (row 4187)
     # at touchdown (no slip yet, no spin) only the inertia shows; in flight nothing does
     moments = {m["name"]: m for m in diag["moments"]["moments"]}
     assert moments["flight"]["agrees"] is True
@@ -105,7 +105,7 @@ def test_each_mistake_alone_where_only_it_acts():
 
 
 def test_a_correct_simulator_gets_nothing_to_explain():
-    scene = dataclasses.replace(load("box_drop"), duration=0.3)
+    scene = dataclasses.replace(load("box_drop"), duration=0.3, dt=1e-4)  # the steps below count 1e-4 s
     diag = diagnosis(SEED, scene, run_user(SEED, scene).states())
     assert diag["named"] == [] and "nothing to explain" in diag["verdict"]
     assert all(m["agrees"] for m in diag["moments"]["moments"])
@@ -146,20 +146,6 @@ def test_csv_route_with_ten_digits(tmp_path):
                comments="", fmt="%.10g")
     row, _ = identical(files, scene)
     assert row["pass"] is False
-
-
-def test_beyond_the_divergence_horizon_nothing_is_judged():
-    """A box balanced on its corner topples the way its last digit says: round-off alone grows
-    to a millimetre within half a second of landing. `identical` judges up to that horizon and
-    says so, rather than allowing a tolerance as large as the motion."""
-    from custom_sim import simulate
-    scene = load("corner_landing")
-    envelope = roundoff_envelope(scene)
-    assert 0 < envelope.horizon < scene.steps + 1
-    assert envelope.position <= 1e-3 * envelope.motion_size * 1.0001
-    row = check_identical(scene, simulate(scene).states(), scene.integrator, scene.dt)
-    assert row["pass"] is True and row["judged_whole_run"] is False and "judged up to t =" in row["reason"]
-    assert row["judged_until"] < scene.duration
 
 
 def test_an_unknown_integrator_is_not_diagnosed_but_said(tmp_path):

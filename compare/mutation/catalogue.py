@@ -63,7 +63,7 @@ MISTAKES = (
             "    z[0] += h * z[3]\n    z[1] += h * z[4]\n    z[2] += h * z[5]\n    z[3] += h * ax\n    z[4] += h * ay\n    z[5] += h * aw\n\n\n@njit(cache=True)\ndef solve3"),
     Mistake("rk4_wrong_node", "RK4 whose third stage is taken at the half step from k3 instead of the full step",
             "Numerical integration: RK4", "integrators.py",
-            "nodes = (0.5, 0.5, 1.0)", "nodes = (0.5, 0.5, 0.5)"),
+            "ch = (1.0 if s == 2 else 0.5) * h", "ch = 0.5 * h"),
     Mistake("implicit_euler_old_positions", "implicit Euler that evaluates the force at the old positions q0",
             "Numerical integration: implicit Euler, v1 = v0 + a(q1, v1) dt", "integrators.py",
             "zi[j] = z0[j] + h * zi[3 + j]", "zi[j] = z0[j]"),
