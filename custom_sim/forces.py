@@ -58,8 +58,30 @@ def normal_force(model, d, vcy):
 
 
 @njit(cache=True, inline="always")
+def point_load(model, rx, ry, d, vx, vy, om):
+    """(Ft N, Fn N, rolling torque N m) of one contact point at arm (rx, ry) and depth d (m),
+    counted as touching whatever the sign of d (the caller decides: d > 0, or the touchdown
+    point held on the ground by the jump step, filippov.py)."""
+    fn = normal_force(model, d, vy + om * rx)
+    ft = 0.0
+    if model.friction:
+        ft = -model.mu * fn * tanh(model.alpha * (vx - om * ry))
+    roll = 0.0
+    if model.rolling:
+        roll = model.mu_roll * fn * tanh(ROLL_SHARPNESS * om)
+    return ft, fn, roll
+
+
+@njit(cache=True, inline="always")
 def accelerations(model, points, z, fx, fy, tau):
     """(ax, ay, alpha_theta) in m/s^2 and rad/s^2 at state z, with (fx N, fy N, tau N m) applied."""
+    return loaded_accelerations(model, points, z, fx, fy, tau, -1, 1.0)
+
+
+@njit(cache=True, inline="always")
+def loaded_accelerations(model, points, z, fx, fy, tau, held, share):
+    """accelerations(), but with contact point `held` (-1: none) acting whatever its depth and
+    with its load scaled by share (the jump step's lambda in [0, 1], filippov.py)."""
     theta, vx, vy, om = z[2], z[3], z[4], z[5]
     if model.gravity:
         fy -= model.g / model.inv_mass
@@ -69,17 +91,16 @@ def accelerations(model, points, z, fx, fy, tau):
             lx, ly = points[i, 0], points[i, 1]
             rx, ry = cs * lx - sn * ly, sn * lx + cs * ly  # r = R(theta) l
             d = -(z[1] + ry)
-            if d <= 0.0:
+            if i != held and d <= 0.0:
                 continue  # free flight: no force, no damping in the air
-            fn = normal_force(model, d, vy + om * rx)
-            ft = 0.0
-            if model.friction:
-                ft = -model.mu * fn * tanh(model.alpha * (vx - om * ry))
+            ft, fn, roll = point_load(model, rx, ry, d, vx, vy, om)
+            if i == held:
+                ft, fn, roll = share * ft, share * fn, share * roll
             fx += ft
             fy += fn
             tau += rx * fn - ry * ft
             if model.rolling:
-                tau -= model.mu_roll * fn * tanh(ROLL_SHARPNESS * om)
+                tau -= roll
     return fx * model.inv_mass, fy * model.inv_mass, tau * model.inv_inertia
 
 
@@ -112,6 +133,14 @@ def acceleration_jacobian(model, points, z, jac):
         dtau = r_x dFn - r_y dFt + rot (-r_y Fn - r_x Ft) e_theta   (tau = r_x Fn - r_y Ft)
                - mu_roll th_r dFn - mu_roll Fn S (1 - th_r^2) e_omega,  th_r = tanh(S omega)
     """
+    loaded_acceleration_jacobian(model, points, z, jac, -1, 1.0)
+
+
+@njit(cache=True)
+def loaded_acceleration_jacobian(model, points, z, jac, held, share_held):
+    """acceleration_jacobian() of loaded_accelerations(): point `held` (-1: none) acts whatever
+    its depth, its terms scaled by share_held. Every term of the held point carries the factor share
+    once (share = 1 multiplies exactly: the plain Jacobian is unchanged to the bit)."""
     for r in range(3):
         for j in range(6):
             jac[r, j] = 0.0
@@ -124,8 +153,9 @@ def acceleration_jacobian(model, points, z, jac):
         lx, ly = points[i, 0], points[i, 1]
         rx, ry = cs * lx - sn * ly, sn * lx + cs * ly
         d = -(z[1] + ry)
-        if d <= 0.0:
+        if i != held and d <= 0.0:
             continue
+        share = share_held if i == held else 1.0
         vcx, vcy = vx - om * ry, vy + om * rx
         fn = normal_force(model, d, vcy)
         # dFn = fn_d grad d + fn_v grad vc_y, on the active branch of max()
@@ -147,14 +177,14 @@ def acceleration_jacobian(model, points, z, jac):
         # Fn and Ft on (grad d, grad vc_x, grad vc_y)
         n_d, n_x, n_y = fn_d, 0.0, fn_v
         t_d, t_x, t_y = ft_n * fn_d, ft_x, ft_n * fn_v
-        add_gradient(jac[0], model.inv_mass, t_d, t_x, t_y, rx, ry, om, rot)
-        add_gradient(jac[1], model.inv_mass, n_d, n_x, n_y, rx, ry, om, rot)
+        add_gradient(jac[0], share * model.inv_mass, t_d, t_x, t_y, rx, ry, om, rot)
+        add_gradient(jac[1], share * model.inv_mass, n_d, n_x, n_y, rx, ry, om, rot)
         # tau: r_x Fn - r_y Ft (- mu_roll th_r Fn), and the lever arms' own turn with theta
         lever_n = rx
         if model.rolling:
             th_r = tanh(ROLL_SHARPNESS * om)
             lever_n -= model.mu_roll * th_r
-            jac[2, 5] -= model.mu_roll * fn * ROLL_SHARPNESS * (1.0 - th_r * th_r) * model.inv_inertia
-        add_gradient(jac[2], model.inv_inertia, lever_n * n_d - ry * t_d, lever_n * n_x - ry * t_x,
+            jac[2, 5] -= model.mu_roll * fn * ROLL_SHARPNESS * (1.0 - th_r * th_r) * model.inv_inertia * share
+        add_gradient(jac[2], share * model.inv_inertia, lever_n * n_d - ry * t_d, lever_n * n_x - ry * t_x,
                      lever_n * n_y - ry * t_y, rx, ry, om, rot)
-        jac[2, 2] += rot * (-ry * fn - rx * ft) * model.inv_inertia
+        jac[2, 2] += rot * (-ry * fn - rx * ft) * model.inv_inertia * share

@@ -16,7 +16,9 @@ import numpy as np
 from numba import njit
 
 from .chatter import chattering_point
+from .filippov import jump_step
 from .forces import acceleration_jacobian, accelerations
+from .linear3 import solve3
 
 EXPLICIT_EULER, SEMI_IMPLICIT_EULER, IMPLICIT_EULER, RK4 = 0, 1, 2, 3
 
@@ -25,6 +27,13 @@ EXPLICIT_EULER, SEMI_IMPLICIT_EULER, IMPLICIT_EULER, RK4 = 0, 1, 2, 3
 # of h k d / m for the stiffest scene (k = 1e7 N/m on 0.01 kg), so it is always reachable.
 NEWTON_TOL = 1e-10
 NEWTON_MAX_ITERATIONS = 50
+# ...and only where max |G| is below this too (m/s, rad/s): a small step alone is also what a
+# search stalled on a jump of G takes (|G| = 5.7e-5 rad/s was once called converged). Set to
+# the step tolerance: dv = -M^-1 G with M = I - h (h da/dq + da/dv), and contact only adds
+# stiffness and damping to M (|M^-1| <~ 1), so |G| <= NEWTON_TOL keeps v1 within about
+# NEWTON_TOL of the root; the round-off of G, eps (|v| + h |force terms| / m), is below 1e-13
+# on every scene, so a real root always passes.
+RESIDUAL_TOL = 1e-10
 
 FORCE_EVALS, NEWTON_ITERS, NEWTON_MAX, NEWTON_FAILS = 0, 1, 2, 3
 
@@ -72,31 +81,6 @@ def semi_implicit_euler_step(model, points, z, h, fx, fy, tau, counters):
 
 
 @njit(cache=True)
-def solve3(a, b, x):
-    """x = a^-1 b for the 3x3 system in a[:3, :3], Gaussian elimination with partial pivoting
-    (a, b overwritten)."""
-    for col in range(3):
-        p = col
-        for r in range(col + 1, 3):
-            if abs(a[r, col]) > abs(a[p, col]):
-                p = r
-        if p != col:
-            for j in range(3):
-                a[col, j], a[p, j] = a[p, j], a[col, j]
-            b[col], b[p] = b[p], b[col]
-        for r in range(col + 1, 3):
-            f = a[r, col] / a[col, col]
-            for j in range(col, 3):
-                a[r, j] -= f * a[col, j]
-            b[r] -= f * b[col]
-    for r in range(2, -1, -1):
-        s = b[r]
-        for j in range(r + 1, 3):
-            s -= a[r, j] * x[j]
-        x[r] = s / a[r, r]
-
-
-@njit(cache=True)
 def implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters):
     """G(v1) = v1 - v0 - h a(q0 + h v1, v1) into g for the velocities zi[3:] (sets the positions
     zi[:3] = q0 + h v1); returns max |G| (m/s, rad/s)."""
@@ -116,9 +100,17 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
     semi-implicit Euler predictor: dv = -(dG/dv1)^-1 G with dG/dv1 = I - h (h da/dq + da/dv),
     then v1 += t dv with t = 1, 1/2, 1/4, ... until max |G| falls (Armijo). Plain Newton
     (t = 1 always) cycles where G has kinks: the contact switch, max(0, -vc_y) and the
-    tanh of a sharp friction law. Where G jumps over zero (a damper that engages with force
-    c |vc_y| at touchdown) no root exists; the search then ends at the jump, counted as
-    unconverged."""
+    tanh of a sharp friction law. Converged: a step below NEWTON_TOL with max |G| below
+    RESIDUAL_TOL.
+
+    Where G jumps over zero (a damper that engages with force c |vc_y| at touchdown) no root
+    exists, and the line search stalls on the jump (no t with t |dv| > NEWTON_TOL lowers |G|).
+    The step is then the jump's own point, d_j(q1) = 0 with the convex hull of the two sides
+    solving G (Filippov; filippov.jump_step, derived there), tried once at the first stall and,
+    failing that, once more when the iterations run out; if neither lands, the Newton end point
+    is kept and the step counted as unconverged. Iterations on the jump count as Newton
+    iterations. Every step that converges without a stall is the plain damped Newton's, to the
+    bit."""
     # views into the caller's scratch, all C-contiguous (whole rows): no allocation, and one
     # compiled variant of acceleration_jacobian and solve3
     z0 = work[0]
@@ -131,11 +123,13 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
     dv = work[15, :3]
     g = work[16, :3]
     v_start = work[17, :3]
+    keep = work[10]      # the Newton state while the jump step is tried
     ax, ay, aw = accelerations(model, points, z0, fx, fy, tau)
     counters[FORCE_EVALS] += 1
     zi[3], zi[4], zi[5] = z0[3] + h * ax, z0[4] + h * ay, z0[5] + h * aw
     res = implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters)
     converged = False
+    tried_jump = False
     it = 0
     while it < NEWTON_MAX_ITERATIONS:
         it += 1
@@ -153,13 +147,39 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
             for j in range(3):
                 zi[3 + j] = v_start[j] + t * dv[j]
             trial = implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters)
-            if trial <= (1.0 - 1e-4 * t) * res or t * size <= NEWTON_TOL:
+            if trial <= (1.0 - 1e-4 * t) * res:
+                break
+            if t * size <= NEWTON_TOL:
+                if size > NEWTON_TOL and not tried_jump:
+                    # stalled: no step along dv lowers |G|; try the jump's point
+                    tried_jump = True
+                    landed, extra = jump_attempt(model, points, z0, zi, h, fx, fy, tau, counters, work, keep)
+                    it += extra
+                    if landed:
+                        converged = True
+                    else:
+                        trial = implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters)
                 break
             t *= 0.5
+        if converged:
+            break
         res = trial
         if size <= NEWTON_TOL:
-            converged = True
-            break
+            if res <= RESIDUAL_TOL:
+                converged = True
+                break
+            if not tried_jump:
+                # a step too small to move but |G| still large: stopped on a jump, not a root
+                tried_jump = True
+                landed, extra = jump_attempt(model, points, z0, zi, h, fx, fy, tau, counters, work, keep)
+                it += extra
+                if landed:
+                    converged = True
+                    break
+    if not converged and not tried_jump:
+        landed, extra = jump_attempt(model, points, z0, zi, h, fx, fy, tau, counters, work, keep)
+        it += extra
+        converged = landed
     counters[NEWTON_ITERS] += it
     counters[NEWTON_MAX] = max(counters[NEWTON_MAX], it)
     if not converged:
@@ -167,6 +187,20 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
     for j in range(3):
         z[3 + j] = zi[3 + j]
         z[j] = z0[j] + h * zi[3 + j]
+
+
+@njit(cache=True)
+def jump_attempt(model, points, z0, zi, h, fx, fy, tau, counters, work, keep):
+    """filippov.jump_step from zi; on failure zi is put back as it was. Returns (landed,
+    iterations)."""
+    for j in range(6):
+        keep[j] = zi[j]
+    landed, extra = jump_step(model, points, z0, zi, h, fx, fy, tau, counters, work,
+                              NEWTON_TOL, RESIDUAL_TOL)
+    if not landed:
+        for j in range(6):
+            zi[j] = keep[j]
+    return landed, extra
 
 
 @njit(cache=True)

@@ -116,11 +116,13 @@ def test_newton_converges_on_every_builtin_scene():
 
 
 def test_the_implicit_step_allocates_nothing():
-    """The Newton step and its Jacobian build no temporary array: their compiled code calls no
+    """The Newton step, its Jacobian and the step on a jump build no temporary array: their compiled code calls no
     allocator (an array expression such as `k * dd` would: 14 allocation sites in an earlier
     Jacobian). Fresh uncached copies are compiled, since numba shows no code loaded from cache."""
     import numba
 
+    from custom_sim.filippov import jump_step
+    from custom_sim.forces import loaded_acceleration_jacobian
     from custom_sim.integrators import implicit_euler_step
     from custom_sim.model import initial_state
     from compare.scenarios import load
@@ -133,8 +135,79 @@ def test_the_implicit_step_allocates_nothing():
     jac(model, points, z, work[2:5])
     step = numba.njit(implicit_euler_step.py_func)
     step(model, points, z.copy(), scene.dt, 0.0, 0.0, 0.0, np.zeros(4, dtype=np.int64), work)
-    for f in (jac, step):
+    held_jac = numba.njit(loaded_acceleration_jacobian.py_func)
+    held_jac(model, points, z, work[2:5], 0, 0.5)
+    jump = numba.njit(jump_step.py_func)
+    zi = z.copy()
+    jump(model, points, z, zi, scene.dt, 0.0, 0.0, 0.0, np.zeros(4, dtype=np.int64), work, 1e-10, 1e-10)
+    for f in (jac, step, held_jac, jump):
         code = "".join(f.inspect_llvm().values())
         assert code, f"no code to inspect for {f.py_func.__name__}"
         calls = code.count("NRT_MemInfo_alloc") + code.count("NRT_Allocate")
         assert calls == 0, f"{f.py_func.__name__} calls an allocator {calls} times"
+
+
+# A point mass falling at V0 from Y0 above the ground, one step of H: the semi-implicit step
+# would end H |V0| - Y0 = 50 um deep. With c / m = 1e5 1/s the damper alone, engaging at d = 0
+# with c |v|, stops the fall in one step from any v < -0.02 m/s, so no v1 solves the implicit
+# equation (derivation in the test).
+V0, Y0, H = -1.0, 5e-5, 1e-4
+JUMP_MASS, JUMP_C, JUMP_K, G = 0.1, 1e4, 1e5, 9.81
+
+
+@pytest.mark.parametrize("law", ["compression", "linear"])
+def test_no_root_step_lands_on_the_jump(scene_factory, law):
+    """G(v) = v - v0 + h g - h [y0 + h v < 0] (k d + c max(0, -v)) / m. Out of contact
+    (v > v* = -y0/h) G = v - v0 + h g > 0; in contact G is increasing in v and at v* equals
+    v* - v0 + h g - h c |v*| / m = 0.5 + 0.00098 - 5 < 0: G jumps over zero at v*, no root.
+    The jump's point is v1 = v*, y1 = 0, and G_out + lam (G_in - G_out) = 0 gives
+    lam = (v* - v0 + h g) m / (h c |v*|) = 0.1002, inside [0, 1]. The harness's own Newton
+    must find no root there, and its check must accept the step."""
+    import dataclasses
+
+    from compare.accuracy.reference import Equations
+    from compare.verdict.one_step import one_step
+    from compare.verdict.step_check import check_step
+
+    scene = scene_factory({"shape": "point", "mass": JUMP_MASS, "contact_height": 0.0},
+                          {"position": [0.0, Y0], "velocity": [0.0, V0]},
+                          duration=H, dt=H, integrator="implicit_euler", effects=["gravity", "contact"],
+                          g=G, contact={"k": JUMP_K, "c": JUMP_C, "damping_law": law})
+    tr = simulate(scene)
+    v_star = -Y0 / H
+    assert tr.meta["newton_unconverged_steps"] == 0
+    assert tr.vy[1] == pytest.approx(v_star, rel=1e-12)
+    assert abs(tr.y[1]) <= 1e-17   # on the ground to round-off of y0 + h v1
+    lam = (v_star - V0 + H * G) * JUMP_MASS / (H * JUMP_C * abs(v_star))
+    assert 0.0 < lam < 1.0
+    states = tr.states()
+    _, _, solved = one_step(Equations.from_scene(scene), states[:1], H, "implicit_euler")
+    assert not solved[0], "the harness finds a root: the state does not test the jump"
+    row = check_step(scene, states, "implicit_euler", H)
+    assert row["pass"] is True and row["no_root_steps"] == 1, row["reason"]
+    # and a step off the jump by more than round-off fails the same check
+    off = states.copy()
+    off[1, 4] += 1e-8
+    off[1, 1] += H * 1e-8
+    assert check_step(dataclasses.replace(scene), off, "implicit_euler", H)["pass"] is False
+
+
+def test_a_jump_step_is_not_taken_where_a_root_exists(scene_factory):
+    """With a weak damper (c / m = 1e3 1/s) G_in(v*) = 0.5 - 0.05 > 0: the point lands, a root
+    exists in contact, and the step is plain Newton's root, with |G| to round-off."""
+    from custom_sim.integrators import RESIDUAL_TOL, implicit_residual
+    from custom_sim.model import build_model
+
+    scene = scene_factory({"shape": "point", "mass": JUMP_MASS, "contact_height": 0.0},
+                          {"position": [0.0, Y0], "velocity": [0.0, V0]},
+                          duration=H, dt=H, integrator="implicit_euler", effects=["gravity", "contact"],
+                          g=G, contact={"k": JUMP_K, "c": 100.0, "damping_law": "compression"})
+    tr = simulate(scene)
+    assert tr.meta["newton_unconverged_steps"] == 0
+    assert tr.y[1] < 0.0   # in contact, not on the jump
+    model, points = build_model(scene)
+    states = tr.states()
+    zi = states[1].copy()
+    res = implicit_residual(model, points, states[0], zi, H, 0.0, 0.0, 0.0, np.zeros(3),
+                            np.zeros(4, dtype=np.int64))
+    assert res <= RESIDUAL_TOL

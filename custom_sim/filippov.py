@@ -1,0 +1,121 @@
+"""Implicit Euler's step where its equation has no root: on the jump of a touchdown (Filippov).
+
+Implicit Euler solves G(v1) = v1 - v0 - h a(q0 + h v1, v1) = 0. A contact point j that touches
+down switches its load on at depth d_j = 0, and there the load does not start from zero: the
+damper pushes with c |vc_y| at once (either damping law). So G jumps, by -h f_j with f_j the
+point's acceleration at d_j = 0, across the surface d_j(q0 + h v1) = 0 of velocity space, and
+may jump over zero: no v1 solves G = 0 (Newton then stalls on the jump). The step is then the
+point of the jump that the convex hull of the two sides solves (Filippov's solution):
+
+    d_j(q0 + h v1) = 0                                             (on the ground)
+    G_lam(v1) = v1 - v0 - h (a_out + lam f_j)(q0 + h v1, v1) = 0,  0 <= lam <= 1
+
+a_out being the acceleration without point j; a_out + lam f_j is a with point j's load scaled
+by lam (forces.loaded_accelerations). Four equations in (v1, lam), solved by Newton:
+
+    M dv - h f_j dlam = -G_lam,      M = dG_lam/dv1 = I - h (h da/dq + da/dv)
+    h grad_q d_j . dv = -d_j,        grad_q d_j = (0, -1, -rot r_x)   (d_j = -(y + r_y))
+
+Eliminate dv = p + dlam w with p = M^-1 (-G_lam) and w = M^-1 (h f_j) (two 3x3 solves):
+
+    dlam = -(d_j + h grad_q d_j . p) / (h grad_q d_j . w)
+
+G_lam is linear in lam and smooth in v1 on the ground's side that carries the damper, so plain
+Newton converges in a few iterations. The step is accepted when it has converged, the point is on
+the ground and lam lies in [0, 1]; otherwise there is no such point and the caller keeps its own.
+"""
+from __future__ import annotations
+
+from numba import njit
+
+from .forces import (loaded_acceleration_jacobian, loaded_accelerations, point_load,
+                     rotation)
+from .linear3 import solve3
+
+JUMP_MAX_ITERATIONS = 20
+
+
+@njit(cache=True)
+def held_residual(model, points, z0, zi, h, fx, fy, tau, held, share, g, counters):
+    """G_lam(v1) into g for the velocities zi[3:] (sets zi[:3] = q0 + h v1), point `held`
+    carrying the share lam of its load; returns max |G_lam| (m/s, rad/s)."""
+    for j in range(3):
+        zi[j] = z0[j] + h * zi[3 + j]
+    ax, ay, aw = loaded_accelerations(model, points, zi, fx, fy, tau, held, share)
+    counters[0] += 1
+    g[0] = zi[3] - z0[3] - h * ax
+    g[1] = zi[4] - z0[4] - h * ay
+    g[2] = zi[5] - z0[5] - h * aw
+    return max(abs(g[0]), abs(g[1]), abs(g[2]))
+
+
+@njit(cache=True, inline="always")
+def nearest_point(model, points, z):
+    """The contact point closest to the ground at z (|d| smallest): the one on the jump."""
+    cs, sn = rotation(model, z[2])
+    best, best_d = 0, 1e300
+    for i in range(points.shape[0]):
+        d = abs(z[1] + sn * points[i, 0] + cs * points[i, 1])
+        if d < best_d:
+            best, best_d = i, d
+    return best
+
+
+@njit(cache=True)
+def jump_step(model, points, z0, zi, h, fx, fy, tau, counters, work, step_tol, residual_tol):
+    """From zi (velocities near the jump, positions q0 + h v1), Newton on the two conditions of
+    the module docstring for the point nearest the ground. Returns (accepted, iterations); on
+    acceptance zi holds (q1, v1) on the jump, otherwise zi is garbage (the caller restores it).
+    Scratch: work rows 2-4 (Jacobian), 5-7 and 11-13 (the Newton matrix twice), 8-9, 14-16."""
+    jac = work[2:5]
+    mat = work[11:14]
+    mat2 = work[5:8]
+    rhs_p, p = work[8, :3], work[8, 3:]
+    rhs_w, w = work[9, :3], work[9, 3:]
+    g = work[16, :3]
+    held = nearest_point(model, points, zi)
+    rot = 1.0 if model.points_rotate else 0.0
+    lam = 0.5
+    res = held_residual(model, points, z0, zi, h, fx, fy, tau, held, lam, g, counters)
+    it = 0
+    settled = False
+    while it < JUMP_MAX_ITERATIONS:
+        it += 1
+        cs, sn = rotation(model, zi[2])
+        lx, ly = points[held, 0], points[held, 1]
+        rx, ry = cs * lx - sn * ly, sn * lx + cs * ly
+        depth = -(zi[1] + ry)
+        # f_j: the held point's whole load as accelerations, at its depth (0 on the jump)
+        ft, fn, roll = point_load(model, rx, ry, depth, zi[3], zi[4], zi[5])
+        rhs_w[0] = h * ft * model.inv_mass
+        rhs_w[1] = h * fn * model.inv_mass
+        rhs_w[2] = h * (rx * fn - ry * ft - roll) * model.inv_inertia
+        loaded_acceleration_jacobian(model, points, zi, jac, held, lam)
+        for r in range(3):
+            rhs_p[r] = -g[r]
+            for j in range(3):
+                mat[r, j] = (1.0 if r == j else 0.0) - h * (h * jac[r, j] + jac[r, 3 + j])
+                mat2[r, j] = mat[r, j]
+        solve3(mat, rhs_p, p)
+        solve3(mat2, rhs_w, w)
+        # h grad_q d_j . x  for x = p, w: grad_q d_j = (0, -1, -rot r_x)
+        gp = -h * (p[1] + rot * rx * p[2])
+        gw = -h * (w[1] + rot * rx * w[2])
+        if gw == 0.0:
+            return False, it
+        dlam = -(depth + gp) / gw
+        size = 0.0
+        for j in range(3):
+            dv = p[j] + dlam * w[j]
+            zi[3 + j] += dv
+            size = max(size, abs(dv))
+        lam += dlam
+        res = held_residual(model, points, z0, zi, h, fx, fy, tau, held, lam, g, counters)
+        if size <= step_tol:
+            settled = True
+            break
+    if not settled or res > residual_tol or lam < 0.0 or lam > 1.0:
+        return False, it
+    cs, sn = rotation(model, zi[2])
+    depth = -(zi[1] + sn * points[held, 0] + cs * points[held, 1])
+    return abs(depth) <= h * step_tol, it
