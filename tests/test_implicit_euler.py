@@ -211,3 +211,20 @@ def test_a_jump_step_is_not_taken_where_a_root_exists(scene_factory):
     res = implicit_residual(model, points, states[0], zi, H, 0.0, 0.0, 0.0, np.zeros(3),
                             np.zeros(4, dtype=np.int64))
     assert res <= RESIDUAL_TOL
+
+
+def test_fast_impact_at_its_former_step_lands_on_the_jump():
+    """fast_impact at its former step of 1e-4 s: its corner's touchdown at step 80 has no root
+    (the harness's Newton finds none); the plain damped Newton stopped 4.1e-5 m/s (vy) off the
+    jump's point and failed the step check there. Now every step holds to round-off."""
+    import dataclasses
+
+    from compare.scenarios import load
+    from compare.verdict.step_check import check_step
+
+    dt = 1e-4
+    scene = dataclasses.replace(load("fast_impact"), integrator="implicit_euler", dt=dt, duration=100 * dt)
+    tr = simulate(scene)
+    row = check_step(scene, tr.states(), "implicit_euler", dt)
+    assert row["no_root_steps"] >= 1, "the window no longer holds the jump it tests"
+    assert row["pass"] is True and tr.meta["newton_unconverged_steps"] == 0, (row["first_step"], row["phase"])
