@@ -133,14 +133,22 @@ def acceleration_jacobian(model, points, z, jac):
         dtau = r_x dFn - r_y dFt + rot (-r_y Fn - r_x Ft) e_theta   (tau = r_x Fn - r_y Ft)
                - mu_roll th_r dFn - mu_roll Fn S (1 - th_r^2) e_omega,  th_r = tanh(S omega)
     """
-    loaded_acceleration_jacobian(model, points, z, jac, -1, 1.0)
+    jacobian_terms(model, points, z, jac, -1, 1.0)
 
 
 @njit(cache=True)
 def loaded_acceleration_jacobian(model, points, z, jac, held, share_held):
     """acceleration_jacobian() of loaded_accelerations(): point `held` (-1: none) acts whatever
-    its depth, its terms scaled by share_held. Every term of the held point carries the factor share
-    once (share = 1 multiplies exactly: the plain Jacobian is unchanged to the bit)."""
+    its depth, its terms scaled by share_held."""
+    jacobian_terms(model, points, z, jac, held, share_held)
+
+
+@njit(cache=True, inline="always")
+def jacobian_terms(model, points, z, jac, held, share_held):
+    """The body of both Jacobians, inlined into each so that the plain one, with held = -1 and
+    share 1 as constants, compiles to the loop without them. Every term of the held point
+    carries the factor share once (share = 1 multiplies exactly: the plain Jacobian is the same
+    to the bit)."""
     for r in range(3):
         for j in range(6):
             jac[r, j] = 0.0
