@@ -150,6 +150,8 @@ def _run(result: Result, simulator) -> None:
             continue
         checks.append(unstable_row("dynamics", name, run) if isinstance(run, str)
                       else check_dynamics(scene, run.states(), name, scene.dt))
+    if simulator is not None and result.under_test.integrator not in INTEGRATORS:
+        checks.append(beside_rk4_dynamics(scene, result.under_test))
     checks.append(contact_row(scene, simulator))
     checks += reference_rows(scene, tested, result.runs)
     result.checks = checks
@@ -173,6 +175,18 @@ def _run(result: Result, simulator) -> None:
     result.attribution = attribute(scene, result.mujoco if own_mapping == "penalty" else None)
     if simulator is not None:
         result.diagnosis = simulator.diagnose(scene, result.under_test)
+
+
+def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> dict:
+    """An integrator the harness does not know, beside MuJoCo's RK4 under the same contact law
+    at the same step: shown, not judged (no round-off bound holds between two methods)."""
+    from .dynamics_check import check_dynamics
+
+    row = check_dynamics(scene, run.states(), "rk4", scene.dt)
+    row.update({"integrator": run.integrator, "tolerance_position": None, "tolerance_angle": None, "pass": None,
+                "reason": f"shown, not judged: {run.integrator!r} is not an integrator the harness knows, so it "
+                          "is shown beside MuJoCo's RK4 under the same contact law at the same step"})
+    return row
 
 
 def contact_row(scene: Scene, simulator) -> dict:
