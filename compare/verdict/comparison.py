@@ -107,7 +107,7 @@ def run_scenario(scene: Scene, simulator=None) -> Result:
 
 
 def _run(result: Result, simulator) -> None:
-    from mujoco_models import simulate_mujoco
+    from mujoco_models import MujocoDiverged, simulate_mujoco
 
     from .attribution import attribute
     from .dynamics_check import check_dynamics
@@ -162,7 +162,7 @@ def _run(result: Result, simulator) -> None:
     for mapping in (own_mapping,) + tuple(m for m in SOLREF_MAPPINGS if m != own_mapping):
         try:
             twin = simulate_mujoco(scene, solref=mapping)
-        except SimulationDiverged as exc:
+        except (SimulationDiverged, MujocoDiverged) as exc:  # shown in the mappings table
             result.by_mapping[mapping] = {"error": str(exc)}
             continue
         row = metrics.compare(result.under_test, twin)
