@@ -31,9 +31,15 @@ def cache_folder() -> Path:
 
 
 def clear_if_sources_changed() -> None:
-    cache = cache_folder()
-    digest = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(PACKAGE.glob("*.py")))).hexdigest()
-    stamp = cache / "numba_sources.sha256"
+    clear_stale(cache_folder(), sorted(PACKAGE.glob("*.py")), "numba_sources.sha256", "*")
+
+
+def clear_stale(cache: Path, sources: list[Path], stamp_name: str, stem: str) -> None:
+    """Remove the numba cache files `stem`.nbi/.nbc in `cache` unless the digest of `sources`
+    stored there as `stamp_name` still matches (a read-only install: numba then compiles in
+    memory)."""
+    digest = hashlib.sha256(b"".join(p.read_bytes() for p in sources)).hexdigest()
+    stamp = cache / stamp_name
     try:
         if stamp.read_text() == digest:
             return
@@ -41,11 +47,11 @@ def clear_if_sources_changed() -> None:
         pass
     try:
         cache.mkdir(parents=True, exist_ok=True)
-        for stale in [*cache.glob("*.nbi"), *cache.glob("*.nbc")]:
+        for stale in [*cache.glob(f"{stem}.nbi"), *cache.glob(f"{stem}.nbc")]:
             stale.unlink(missing_ok=True)
         stamp.write_text(digest)
     except OSError:
-        pass  # a read-only install: numba then compiles in memory
+        pass
 
 
 def is_cached(dispatcher) -> bool:

@@ -52,7 +52,11 @@ def speeds(scene, integrator: str, repeats: int = REPEATS) -> dict[str, float]:
 def main(argv: list[str] | None = None) -> int:
     from compare.scenarios import builtin_names, load
 
-    names = (argv if argv is not None else sys.argv[1:]) or builtin_names()
+    import argparse
+    parser = argparse.ArgumentParser(prog="python -m mujoco_models.dynamics_speed", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("scenes", nargs="*", metavar="SCENE", help="default: every built-in scene")
+    names = parser.parse_args(argv if argv is not None else sys.argv[1:]).scenes or builtin_names()
     print("| scene | integrator | native twin (ns/step) | dynamics twin, cfunc (ns/step) | "
           "its model without callback (ns/step) |")
     print("|---|---|---|---|---|")

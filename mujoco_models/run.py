@@ -73,7 +73,8 @@ def trajectory_from(twin: Twin, model, data, rows: np.ndarray, sensors: np.ndarr
     sensors = np.vstack([sensors, final_sensors(model, data, rows[-1])])
     nq = joint_count(twin.props)
     states = states_from_q(twin.props, rows[:, 1:1 + nq], rows[:, 1 + nq:1 + 2 * nq])
-    what = f"{scene.name}: MuJoCo {simulator} ({twin.integrator}, dt = {twin.dt:g} s)"
+    twin_name = "dynamics twin" if simulator == "mujoco_dynamics" else f"native twin, solref {twin.contact.mapping}"
+    what = f"{scene.name}: MuJoCo's {twin_name} ({twin.integrator}, dt = {twin.dt:g} s)"
     if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:
         raise MujocoDiverged(f"{what} met a bad acceleration and reset the state; try a smaller dt")
     k = scene.contact.k if scene.has("contact") else 0.0

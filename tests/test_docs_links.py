@@ -43,22 +43,7 @@ def relative_targets():
             yield doc, target
 
 
-# README.md links its summary table to report pages that `python -m compare run` generates into
-# reports/, which git ignores: in a fresh checkout they point nowhere. Marked as known failures
-# (strict: once README.md stops linking them, this marker must go).
-GENERATED = "reports/"
-
-
-def cases():
-    for doc, target in relative_targets():
-        if doc.name == "README.md" and target.startswith(GENERATED):
-            yield pytest.param(doc, target, marks=pytest.mark.xfail(
-                strict=True, reason="README.md links a generated report page (reports/ is not in git)"))
-        else:
-            yield pytest.param(doc, target)
-
-
-@pytest.mark.parametrize("doc,target", list(cases()), ids=lambda x: x.name if isinstance(x, Path) else x)
+@pytest.mark.parametrize("doc,target", list(relative_targets()), ids=lambda x: x.name if isinstance(x, Path) else x)
 def test_relative_link_reaches_a_file(doc, target):
     path, _, frag = target.partition("#")
     dest = (doc.parent / path).resolve() if path else doc

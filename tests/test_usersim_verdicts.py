@@ -158,6 +158,23 @@ def test_an_unknown_integrator_is_not_diagnosed_but_said(tmp_path):
     assert diag["named"] == [] and "verlet" in diag["verdict"] and "not" in diag["verdict"]
 
 
+def test_an_unknown_integrator_is_still_compared(tmp_path):
+    """Named 'verlet', the seed's step is held to nothing it cannot be (no step, no identical
+    bound) but still shown against the reference, the dynamics twin (RK4) and MuJoCo."""
+    from compare.verdict.comparison import run_scenario
+    path = tmp_path / "verlet.py"
+    path.write_text(f"import sys\nsys.path.insert(0, {str(ROOT / 'examples')!r})\nfrom seed_sim import step\n"
+                    "INTEGRATOR = 'verlet'\n")
+    scene = dataclasses.replace(load("box_slide"), duration=0.05)
+    result = run_scenario(scene, load_simulator(f"{path}:step"))
+    assert result.error is None, result.error
+    rows = {c["name"]: c for c in result.checks}
+    assert rows["dynamics"]["integrator"] == "verlet" and rows["dynamics"]["pass"] is None
+    assert rows["dynamics"]["position_error_max"] < 1e-3   # semi-implicit Euler against RK4 over 0.05 s
+    assert rows["reference"]["position_error_max"] is not None and rows["native"]["position_error_max"] is not None
+    assert rows["step"]["pass"] is None and rows["identical"]["pass"] is None
+
+
 def test_validate_command_exit_status(tmp_path, capsys):
     from compare.usersim.validate import main as validate
     text = (ROOT / "scenarios" / "box_drop.toml").read_text().replace("duration = 2.0", "duration = 0.3")

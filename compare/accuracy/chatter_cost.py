@@ -50,6 +50,11 @@ def cost(scene) -> tuple[float, float]:
 
 
 def main(argv: list[str]) -> None:
+    import argparse
+    parser = argparse.ArgumentParser(prog="python -m compare.accuracy.chatter_cost", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("scenes", nargs="*", metavar="SCENE", help="default: the built-in scenes")
+    argv = parser.parse_args(argv).scenes
     print("| scene | integrator | steps | ns/step, chatter watched | ns/step, not watched | extra |")
     print("|---|---|---|---|---|---|")
     for scene in load_all(argv or None):

@@ -140,7 +140,7 @@ def main(args) -> int:
     if loader is not None:
         simulator = loader(args, scenes)  # bad input is raised here, before anything is written
     out = output_folder(args.out)
-    warm_up()  # compile once here, before the workers start (they inherit it or load the cache)
+    compile_everything()
     out.mkdir(parents=True, exist_ok=True)
 
     from ..report import write_index
@@ -158,3 +158,21 @@ def main(args) -> int:
         print(f"error: {why}", file=sys.stderr)
     print(f"report: {index}")
     return 0 if not failed and all(r["pass"] for r in ordered) else 1
+
+
+def _compile_twin_callback() -> None:
+    from mujoco_models.passive import callback
+    callback()
+
+
+def compile_everything() -> None:
+    """Compile once, before the workers start, so that they load numba's cache instead of each
+    compiling the same code: custom_sim's loop here, and at the same time, in a process of its
+    own, the dynamics twin's passive-force callback (on a first run they are about as long)."""
+    import multiprocessing
+
+    twin = multiprocessing.get_context("fork").Process(target=_compile_twin_callback, daemon=True)
+    twin.start()
+    warm_up()  # prints "compiling the simulator (first run only) ..." when it has to
+    twin.join()
+

@@ -51,7 +51,7 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
         diffs = metrics.differences(tested, twin)
         shown = (tested, twin) if tested is result.custom else (tested, result.custom, twin)
         figures = {
-            "states": plots.states(scene, shown, tmp / "states.png"),
+            "states": plots.states(scene, shown, tmp / "states.png", result.reference),
             "path": plots.path_in_plane(scene, shown, tmp / "path.png"),
             "error": plots.error(scene, diffs, tmp / "error.png"),
             "energy": plots.energy(scene, shown, tmp / "energy.png"),

@@ -46,6 +46,7 @@ class Result:
     checks: list = field(default_factory=list)        # check rows (CHECK_KEYS)
     attribution: list = field(default_factory=list)   # the measured ladder of causes
     residuals: dict = field(default_factory=dict)     # per-step residuals of the step checks (plots)
+    reference: np.ndarray | None = None               # converged reference states (steps + 1, 6), for the plots
     warnings: list = field(default_factory=list)      # e.g. dt outside the theory's limit
     diagnosis: dict | None = None                     # a user's simulator: which mistake explains it
     simulator: str = CUSTOM                           # name of the simulator under test
@@ -106,7 +107,7 @@ def run_scenario(scene: Scene, simulator=None) -> Result:
 
 
 def _run(result: Result, simulator) -> None:
-    from mujoco_models import simulate_mujoco
+    from mujoco_models import MujocoDiverged, simulate_mujoco
 
     from .attribution import attribute
     from .dynamics_check import check_dynamics
@@ -150,15 +151,18 @@ def _run(result: Result, simulator) -> None:
             continue
         checks.append(unstable_row("dynamics", name, run) if isinstance(run, str)
                       else check_dynamics(scene, run.states(), name, scene.dt))
+    if simulator is not None and result.under_test.integrator not in INTEGRATORS:
+        checks.append(beside_rk4_dynamics(scene, result.under_test))
     checks.append(contact_row(scene, simulator))
-    checks += reference_rows(scene, tested, result.runs)
+    rows, result.reference = reference_rows(scene, tested, result.runs)
+    checks += rows
     result.checks = checks
 
     own_mapping = scene.mujoco.solref
     for mapping in (own_mapping,) + tuple(m for m in SOLREF_MAPPINGS if m != own_mapping):
         try:
             twin = simulate_mujoco(scene, solref=mapping)
-        except SimulationDiverged as exc:
+        except (SimulationDiverged, MujocoDiverged) as exc:  # shown in the mappings table
             result.by_mapping[mapping] = {"error": str(exc)}
             continue
         row = metrics.compare(result.under_test, twin)
@@ -173,6 +177,18 @@ def _run(result: Result, simulator) -> None:
     result.attribution = attribute(scene, result.mujoco if own_mapping == "penalty" else None)
     if simulator is not None:
         result.diagnosis = simulator.diagnose(scene, result.under_test)
+
+
+def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> dict:
+    """An integrator the harness does not know, beside MuJoCo's RK4 under the same contact law
+    at the same step: shown, not judged (no round-off bound holds between two methods)."""
+    from .dynamics_check import check_dynamics
+
+    row = check_dynamics(scene, run.states(), "rk4", scene.dt)
+    row.update({"integrator": run.integrator, "tolerance_position": None, "tolerance_angle": None, "pass": None,
+                "reason": f"shown, not judged: {run.integrator!r} is not an integrator the harness knows, so it "
+                          "is shown beside MuJoCo's RK4 under the same contact law at the same step"})
+    return row
 
 
 def contact_row(scene: Scene, simulator) -> dict:
@@ -202,10 +218,10 @@ def _diverged(scene: Scene) -> SimulationDiverged:
     raise AssertionError("custom_runs reported a divergence that did not repeat")
 
 
-def reference_rows(scene: Scene, tested: dict, runs: dict) -> list[dict]:
+def reference_rows(scene: Scene, tested: dict, runs: dict) -> tuple[list[dict], np.ndarray | None]:
     """The error at the scene's dt against the converged reference, for each trajectory under
     test, beside custom_sim's for the same integrator (shown, not judged: it is the integrator's
-    accuracy, not a defect)."""
+    accuracy, not a defect); and the reference's states."""
     from ..accuracy.reference import ReferenceError, solve_reference
 
     rows = []
@@ -214,7 +230,7 @@ def reference_rows(scene: Scene, tested: dict, runs: dict) -> list[dict]:
     except ReferenceError as exc:
         return [{"name": "reference", "isolates": "accuracy at this dt", "integrator": None,
                  "position_error_max": None, "angle_error_max": None, "tolerance_position": None,
-                 "tolerance_angle": None, "pass": None, "reason": f"no converged reference: {exc}"}]
+                 "tolerance_angle": None, "pass": None, "reason": f"no converged reference: {exc}"}], None
     for name, run in tested.items():
         if isinstance(run, str):
             continue
@@ -224,9 +240,11 @@ def reference_rows(scene: Scene, tested: dict, runs: dict) -> list[dict]:
                "integrator": name, **err, "tolerance_position": None, "tolerance_angle": None, "pass": None,
                "reason": "shown, not judged: the numerical error of the integrator at the scene's dt"}
         if mine is not None and not isinstance(mine, str) and mine is not run:
-            row["custom_sim_position_error_max"] = reference_error(mine, ref.states)["position_error_max"]
+            custom = reference_error(mine, ref.states)["position_error_max"]
+            row["custom_sim_position_error_max"] = custom
+            row["reason"] += f"; custom_sim with the same integrator and dt: {custom:.3g} m"
         rows.append(row)
-    return rows
+    return rows, ref.states
 
 
 def reference_error(run: Trajectory, ref_states: np.ndarray) -> dict:

@@ -222,7 +222,10 @@ def main(argv: list[str] | None = None) -> int:
     from compare.scenarios import load
     from custom_sim import simulate
 
-    names = (argv if argv is not None else sys.argv[1:]) or _all_scenes()
+    import argparse
+    parser = argparse.ArgumentParser(prog="python -m compare.verdict.dynamics_check", description=main.__doc__)
+    parser.add_argument("scenes", nargs="*", metavar="SCENE", help="default: every built-in and stress scene")
+    names = parser.parse_args(argv if argv is not None else sys.argv[1:]).scenes or _all_scenes()
     print("| scene | integrator | steps | position (m) | angle (rad) | tolerance (m) | tolerance (rad) | "
           "bound | judged to (s) | friction h lambda | pass | s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")

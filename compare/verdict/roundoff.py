@@ -54,31 +54,18 @@ def _clear_stale_kernel() -> None:
     """The kernel below inlines custom_sim's step functions, and numba checks a cached function
     against its own file only: clear its cache when this file or any custom_sim source changes
     (as custom_sim/compile_cache.py does for custom_sim's own)."""
-    import hashlib
     from pathlib import Path
 
     import custom_sim
+    from custom_sim.compile_cache import clear_stale
+
     here = Path(__file__).resolve()
     sources = sorted(Path(custom_sim.__file__).resolve().parent.glob("*.py")) + [here]
-    digest = hashlib.sha256(b"".join(p.read_bytes() for p in sources)).hexdigest()
     try:  # numba's folder for this file: __pycache__ beside it, or under NUMBA_CACHE_DIR
         cache = Path(_semi_implicit_euler_rounded._cache._cache_path)
     except Exception:  # another numba layout: its default, in-tree
         cache = here.parent / "__pycache__"
-    stamp = cache / "roundoff_numba_sources.sha256"
-    try:
-        if stamp.read_text() == digest:
-            return
-    except OSError:
-        pass
-    try:
-        cache.mkdir(parents=True, exist_ok=True)
-        for stale in [*cache.glob("roundoff.*.nbi"), *cache.glob("roundoff.*.nbc")]:
-            stale.unlink(missing_ok=True)
-        stamp.write_text(digest)
-    except OSError:
-        pass
-
+    clear_stale(cache, sources, "roundoff_numba_sources.sha256", "roundoff.*")
 
 
 @dataclasses.dataclass(frozen=True)
