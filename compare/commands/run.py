@@ -79,6 +79,15 @@ def run_one(scene, out: str, simulator=None):
         return None, ("error", one_line(exc))
 
 
+def expected_cost(scene) -> float:
+    """A scenario's relative cost, for the order of submission: its steps times the force
+    evaluations of a step (RK4: 4) times its contact points, plus a constant share for the runs
+    of fixed cost (MuJoCo twins, plots)."""
+    from custom_sim import INTEGRATORS, mass_properties
+    evals = INTEGRATORS[scene.integrator].evals_per_step or 2
+    return scene.steps * evals * len(mass_properties(scene.body).points) + 2e5
+
+
 def run_all(scenes, out: Path, jobs: int, simulator=None) -> tuple[dict, dict]:
     """Every scene in worker processes. A worker that dies (a crash in compiled code, the
     machine killing it) breaks the pool; the scenes it took down are run again, one process
@@ -86,7 +95,7 @@ def run_all(scenes, out: Path, jobs: int, simulator=None) -> tuple[dict, dict]:
     from tqdm import tqdm
 
     rows, failures = {}, {}
-    todo = list(scenes)
+    todo = sorted(scenes, key=expected_cost, reverse=True)  # longest first: the pool's tail is short
     with tqdm(total=len(todo), desc="scenarios", unit="scene", delay=2, file=sys.stderr) as bar:
         for width in (max(1, min(jobs, len(todo))), 1):
             lost = []
