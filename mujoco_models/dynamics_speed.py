@@ -13,39 +13,25 @@ For each scene and MuJoCo integrator (Euler, RK4), the CPU time per step of whol
 from __future__ import annotations
 
 import sys
-import time
-
-import numpy as np
-from mujoco import rollout
 
 from .passive import installed, law_parameters
-from .run import WARMUP_STEPS, setup_rollout
+from .run import rollout_ns_per_step, setup_rollout
 from .sites import contact_below_site
 
 REPEATS = 3
 INTEGRATORS = ("Euler", "RK4")
 
 
-def _ns_per_step(model, data, start, n, repeats: int) -> float:
-    rollout.rollout(model, data, start, nstep=min(n, WARMUP_STEPS))
-    best = np.inf
-    for _ in range(repeats):
-        begin = time.thread_time()
-        rollout.rollout(model, data, start, nstep=n)
-        best = min(best, time.thread_time() - begin)
-    return 1e9 * best / n
-
-
 def speeds(scene, integrator: str, repeats: int = REPEATS) -> dict[str, float]:
     """{"native", "dynamics", "bare"}: CPU ns per mj_step (module docstring)."""
     _, model, data, start, n = setup_rollout(scene, integrator=integrator, dt=scene.dt)
-    out = {"native": _ns_per_step(model, data, start, n, repeats)}
+    out = {"native": rollout_ns_per_step(model, data, start, n, repeats)}
     twin, model, data, start, n = setup_rollout(scene, integrator=integrator, dt=scene.dt, pairs="none")
-    out["bare"] = _ns_per_step(model, data, start, n, repeats)
+    out["bare"] = rollout_ns_per_step(model, data, start, n, repeats)
     params = law_parameters(scene, twin.props, contact_below_site(scene.body),
                             native_normal=False, friction_at="corner")
     with installed(model, data, params):
-        out["dynamics"] = _ns_per_step(model, data, start, n, repeats)
+        out["dynamics"] = rollout_ns_per_step(model, data, start, n, repeats)
     return out
 
 

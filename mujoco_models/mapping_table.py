@@ -11,14 +11,12 @@ from __future__ import annotations
 
 import dataclasses
 import sys
-import time
 
 import numpy as np
-from mujoco import rollout
 
 from custom_sim import Scene, simulate
 
-from .run import WARMUP_STEPS, setup_rollout, simulate_mujoco
+from .run import rollout_ns_per_step, setup_rollout, simulate_mujoco
 from .solref import MAPPINGS
 
 REPEATS = 3
@@ -47,13 +45,7 @@ def mapping_errors(scene: Scene) -> dict:
 def ns_per_step(scene: Scene, repeats: int = REPEATS) -> float:
     """CPU ns per mj_step of the scene's twin, the fastest of `repeats` whole-run rollouts."""
     _, model, data, start, n = setup_rollout(scene)
-    rollout.rollout(model, data, start, nstep=min(n, WARMUP_STEPS))
-    best = np.inf
-    for _ in range(repeats):
-        begin = time.thread_time()
-        rollout.rollout(model, data, start, nstep=n)
-        best = min(best, time.thread_time() - begin)
-    return 1e9 * best / n
+    return rollout_ns_per_step(model, data, start, n, repeats)
 
 
 def main(argv: list[str] | None = None) -> int:

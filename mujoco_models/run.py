@@ -51,6 +51,18 @@ def setup_rollout(scene: Scene, solref: str | None = None, integrator: str | Non
     return twin, model, data, start_state, max(1, int(round(scene.duration / twin.dt)))
 
 
+def rollout_ns_per_step(model, data, start_state: np.ndarray, n: int, repeats: int) -> float:
+    """CPU ns per mj_step of n-step rollouts from start_state: the fastest of `repeats`, after a
+    warm-up (benchmarks; the thread's CPU time, so other processes' load falls outside it)."""
+    rollout.rollout(model, data, start_state, nstep=min(n, WARMUP_STEPS))
+    best = np.inf
+    for _ in range(repeats):
+        begin = time.thread_time()
+        rollout.rollout(model, data, start_state, nstep=n)
+        best = min(best, time.thread_time() - begin)
+    return 1e9 * best / n
+
+
 def timed_rollout(model, data, start_state: np.ndarray, n: int, before_timed=None):
     """(rows (n + 1, nstate) full physics states from the start, sensor rows (n + 1, nsensordata)
     of the same states, wall time s of the n steps). A warm-up rollout runs first;
