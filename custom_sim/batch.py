@@ -2,8 +2,8 @@
 
     simulate_batch(scenes, samples, threads) -> list[BatchRun]
 
-Every run goes through `integrators.integrate`, the very loop `simulate` calls, with the same
-model, guard and counters, so a run of the batch is bit for bit the run `simulate` makes (a
+Every run goes through the compiled loops of `integrators.integrate`, the ones `simulate`
+calls, with the same model, guard and counters, so a run of the batch is bit for bit the run `simulate` makes (a
 test checks it). The batch adds only the loop over runs: `numba.prange`, a chunk of one run
 per thread at a time, so a long run does not hold up a thread's share of short ones. The call
 releases the GIL (nogil), so the calling process (a Dask worker's heartbeat) keeps running
@@ -29,7 +29,8 @@ from numba.extending import intrinsic
 
 from .bodies import mass_properties
 from .chatter import WATCH_COLUMNS
-from .integrators import FORCE_EVALS, INTEGRATORS, NEWTON_ITERS, integrate
+from .integrators import (FORCE_EVALS, IMPLICIT_EULER, INTEGRATORS, NEWTON_ITERS, integrate_explicit,
+                          integrate_implicit)
 from .model import Model, build_model, initial_state
 from .scene import Scene
 from .simulate import blowup_guard
@@ -109,7 +110,10 @@ def _run_batch(floats, switches, points, n_points, z0, dt, steps, methods, guard
         count = np.zeros(4, dtype=np.int64)
         start = _monotonic(clock)
         watch = np.zeros((n_points[b], WATCH_COLUMNS))   # chatter counts as unstable, as in simulate
-        stop = integrate(model, pts, z, dt[b], n, methods[b], ext, trajectory, count, guard, watch)
+        if methods[b] == IMPLICIT_EULER:
+            stop = integrate_implicit(model, pts, z, dt[b], n, methods[b], ext, trajectory, count, guard, watch)
+        else:
+            stop = integrate_explicit(model, pts, z, dt[b], n, methods[b], ext, trajectory, count, guard, watch)
         wall[b] = _monotonic(clock) - start
         failed[b] = stop
         final[b] = z

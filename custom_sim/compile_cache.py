@@ -7,11 +7,12 @@ package's sources, kept beside the cache, clears the cache whenever any source c
 The first run on a machine (or after an edit) compiles the simulator: a few seconds on one
 core. warm_up() does that once, in the calling process, before worker processes start, so
 that they inherit the compiled code (fork) or load it from the cache instead of each
-compiling it again at the same time.
+compiling it again at the same time; warm_up_in_parallel() splits it over two processes.
 """
 from __future__ import annotations
 
 import hashlib
+import os
 import sys
 import time
 from pathlib import Path
@@ -63,24 +64,64 @@ def is_cached(dispatcher) -> bool:
         return False
 
 
-def warm_up(stream=None) -> float:
-    """Compile (or load from the cache) everything a run executes: the stepping loop with all
-    four integrators and the blow-up check of a recorded trajectory, through one 2-step run of
-    a small scene. Prints COMPILING_MESSAGE to `stream` (stderr) when it has to compile.
-    Returns the seconds it took."""
-    from .integrators import first_unhealthy, integrate
+def needs_compiling() -> bool:
+    """True when a run would compile: a compiled loop or the blow-up check is not in the cache."""
+    from .integrators import first_unhealthy, integrate_explicit, integrate_implicit
+    return not all(is_cached(f) for f in (integrate_explicit, integrate_implicit, first_unhealthy))
+
+
+# warm_up's parts: the methods whose compiled loop it runs; the parts are independent (no
+# compiled function of one calls the other's), so two processes compile them at once.
+EXPLICIT_PART = ("explicit_euler", "semi_implicit_euler", "rk4")
+IMPLICIT_PART = ("implicit_euler",)
+
+
+def warm_up(stream=None, part=EXPLICIT_PART + IMPLICIT_PART) -> float:
+    """Compile (or load from the cache) everything a run executes: the stepping loops of the
+    integrators in `part` and the blow-up check of a recorded trajectory, through a 2-step run
+    of a small scene with each. Prints COMPILING_MESSAGE to `stream` (stderr) when it has to
+    compile. Returns the seconds it took."""
+    import dataclasses
+
+    from .integrators import first_unhealthy
     from .scene import parse_scene
     from .simulate import blowup_guard, simulate
 
     start = time.perf_counter()
-    if not (is_cached(integrate) and is_cached(first_unhealthy)):
+    if needs_compiling():
         print(COMPILING_MESSAGE, file=stream or sys.stderr, flush=True)
     scene = parse_scene({"name": "warm_up", "duration": 2e-4, "dt": 1e-4,
                          "body": {"shape": "box", "mass": 1.0, "size": [0.2, 0.1]},
                          "initial": {"position": [0.0, 0.04]}}, file="<warm_up>")
-    traj = simulate(scene)
+    for integrator in part:
+        traj = simulate(dataclasses.replace(scene, integrator=integrator))
     states = traj.states()
     first_unhealthy(states, blowup_guard(scene, _props(scene), states[0], applied_input=False))
+    return time.perf_counter() - start
+
+
+def warm_up_in_parallel(stream=None, meanwhile=None) -> float:
+    """warm_up(), its implicit part compiled in a forked process while this one compiles the
+    rest (on a first run the two are about as long) and then calls meanwhile(), if given.
+    Returns the seconds it took."""
+    import multiprocessing
+
+    start = time.perf_counter()
+    if not needs_compiling():
+        warm_up(stream)
+        if meanwhile is not None:
+            meanwhile()
+        return time.perf_counter() - start
+    print(COMPILING_MESSAGE, file=stream or sys.stderr, flush=True)
+    with open(os.devnull, "w") as quiet:
+        other = multiprocessing.get_context("fork").Process(target=warm_up, args=(quiet, IMPLICIT_PART),
+                                                            daemon=True)
+        other.start()
+        warm_up(quiet, EXPLICIT_PART)
+        if meanwhile is not None:
+            meanwhile()
+        other.join()
+        warm_up(quiet)   # loads what the other process compiled (compiles it, had that failed)
     return time.perf_counter() - start
 
 

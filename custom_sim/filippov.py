@@ -26,10 +26,11 @@ the ground and lam lies in [0, 1]; otherwise there is no such point and the call
 """
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
-from .forces import (loaded_acceleration_jacobian, loaded_accelerations, point_load,
-                     rotation)
+from .forces import loaded_acceleration_jacobian, point_load, rotation
+from .implicit_residual import residual
 from .linear3 import solve3
 
 JUMP_MAX_ITERATIONS = 20
@@ -37,16 +38,9 @@ JUMP_MAX_ITERATIONS = 20
 
 @njit(cache=True)
 def held_residual(model, points, z0, zi, h, fx, fy, tau, held, share, g, counters):
-    """G_lam(v1) into g for the velocities zi[3:] (sets zi[:3] = q0 + h v1), point `held`
-    carrying the share lam of its load; returns max |G_lam| (m/s, rad/s)."""
-    for j in range(3):
-        zi[j] = z0[j] + h * zi[3 + j]
-    ax, ay, aw = loaded_accelerations(model, points, zi, fx, fy, tau, held, share)
-    counters[0] += 1
-    g[0] = zi[3] - z0[3] - h * ax
-    g[1] = zi[4] - z0[4] - h * ay
-    g[2] = zi[5] - z0[5] - h * aw
-    return max(abs(g[0]), abs(g[1]), abs(g[2]))
+    """G_lam(v1) of implicit_residual.residual, point `held` carrying the share lam of its load:
+    one compiled copy for both calls of jump_step."""
+    return residual(model, points, z0, zi, h, fx, fy, tau, held, share, g, counters)
 
 
 @njit(cache=True, inline="always")
@@ -73,7 +67,7 @@ def jump_step(model, points, z0, zi, h, fx, fy, tau, counters, work, step_tol, r
     rhs_p, p = work[8, :3], work[8, 3:]
     rhs_w, w = work[9, :3], work[9, 3:]
     g = work[16, :3]
-    held = nearest_point(model, points, zi)
+    held = np.int64(nearest_point(model, points, zi))  # int64, never a literal type (forces.no_point)
     rot = 1.0 if model.points_rotate else 0.0
     lam = 0.5
     res = held_residual(model, points, z0, zi, h, fx, fy, tau, held, lam, g, counters)

@@ -18,9 +18,20 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from numba import njit
 
 from .model import COMPRESSION
+
+
+@njit(cache=True, inline="always")
+def no_point():
+    """-1, the `held` of no contact point, typed int64: a compiled function called with a
+    constant is compiled again for that constant (numba's literal types), and those copies
+    were a tenth of the first run's compile."""
+    return np.int64(-1)
+
 
 ROLL_SHARPNESS = 100.0  # s/rad: full rolling resistance above |omega| ~ 0.03 rad/s (v = 3 mm/s at R = 0.1 m)
 
@@ -121,7 +132,7 @@ def add_gradient(row, scale, c_d, c_x, c_y, rx, ry, om, rot):
     row[5] += scale * (c_y * rx - c_x * ry)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def acceleration_jacobian(model, points, z, jac):
     """d(ax, ay, alpha_theta)/dz into jac (3, 6), analytic and allocation-free. At the kinks of
     max() and of the contact switch it takes the active branch's derivative.
@@ -133,22 +144,16 @@ def acceleration_jacobian(model, points, z, jac):
         dtau = r_x dFn - r_y dFt + rot (-r_y Fn - r_x Ft) e_theta   (tau = r_x Fn - r_y Ft)
                - mu_roll th_r dFn - mu_roll Fn S (1 - th_r^2) e_omega,  th_r = tanh(S omega)
     """
-    jacobian_terms(model, points, z, jac, -1, 1.0)
+    loaded_acceleration_jacobian(model, points, z, jac, no_point(), 1.0)
 
 
 @njit(cache=True)
 def loaded_acceleration_jacobian(model, points, z, jac, held, share_held):
     """acceleration_jacobian() of loaded_accelerations(): point `held` (-1: none) acts whatever
-    its depth, its terms scaled by share_held."""
-    jacobian_terms(model, points, z, jac, held, share_held)
-
-
-@njit(cache=True, inline="always")
-def jacobian_terms(model, points, z, jac, held, share_held):
-    """The body of both Jacobians, inlined into each so that the plain one, with held = -1 and
-    share 1 as constants, compiles to the loop without them. Every term of the held point
-    carries the factor share once (share = 1 multiplies exactly: the plain Jacobian is the same
-    to the bit)."""
+    its depth, its terms scaled by share_held. Every term of the held point carries the factor
+    share once (share = 1 multiplies exactly: with held = -1 this is the plain Jacobian to the
+    bit). One compiled body for both: a copy specialised to held = -1 was two seconds of a
+    first run's compile, for a few compares per Newton iteration."""
     for r in range(3):
         for j in range(6):
             jac[r, j] = 0.0

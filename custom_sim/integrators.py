@@ -17,7 +17,8 @@ from numba import njit
 
 from .chatter import chattering_point
 from .filippov import jump_step
-from .forces import acceleration_jacobian, accelerations
+from .forces import acceleration_jacobian, accelerations, no_point
+from .implicit_residual import residual
 from .linear3 import solve3
 
 EXPLICIT_EULER, SEMI_IMPLICIT_EULER, IMPLICIT_EULER, RK4 = 0, 1, 2, 3
@@ -83,15 +84,8 @@ def semi_implicit_euler_step(model, points, z, h, fx, fy, tau, counters):
 @njit(cache=True)
 def implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters):
     """G(v1) = v1 - v0 - h a(q0 + h v1, v1) into g for the velocities zi[3:] (sets the positions
-    zi[:3] = q0 + h v1); returns max |G| (m/s, rad/s)."""
-    for j in range(3):
-        zi[j] = z0[j] + h * zi[3 + j]
-    ax, ay, aw = accelerations(model, points, zi, fx, fy, tau)
-    counters[FORCE_EVALS] += 1
-    g[0] = zi[3] - z0[3] - h * ax
-    g[1] = zi[4] - z0[4] - h * ay
-    g[2] = zi[5] - z0[5] - h * aw
-    return max(abs(g[0]), abs(g[1]), abs(g[2]))
+    zi[:3] = q0 + h v1); returns max |G| (m/s, rad/s). implicit_residual.py, no point held."""
+    return residual(model, points, z0, zi, h, fx, fy, tau, no_point(), 1.0, g, counters)
 
 
 @njit(cache=True)
@@ -266,20 +260,40 @@ def first_unhealthy(states, guard):
     return -1
 
 
-@njit(cache=True)
-def integrate(model, points, z, h, n, method, ext, out, counters, guard, watch):
+def integrate(model, points, z, h, n, method, ext, out, counters, guard, watch) -> int:
     """Advance z by n steps of size h (s), writing the state after step i to out[i] when
     out has n rows (out with 0 rows records nothing). ext: (1, 3) constant or (n, 3) per
     step applied (Fx, Fy, tau). watch: the chatter tracker (contact points, WATCH_COLUMNS),
     carried from call to call (0 rows: chatter is not watched). Returns -1, or the 1-based
     step at which the state left the healthy range (see is_healthy) or a contact point
     started to chatter (chatter.py; that point's row of watch is flagged), with z left at
-    that state."""
+    that state.
+
+    Two compiled loops, one per kind of method: implicit Euler's Newton solve is most of the
+    compiled code, and apart the two compile at the same time on a first run (compile_cache)."""
+    loop = integrate_implicit if method == IMPLICIT_EULER else integrate_explicit
+    return loop(model, points, z, h, n, method, ext, out, counters, guard, watch)
+
+
+@njit(cache=True, inline="always")
+def stops_after(model, points, z, i, out, record, guard, watch):
+    """Record the state after step i (0-based) in out[i] when record; True when the run must
+    stop there: blown up (is_healthy) or a contact point chattering (chatter.py)."""
+    if record:
+        for j in range(6):
+            out[i, j] = z[j]
+    if not is_healthy(z, guard):
+        return True
+    return watch.shape[0] == points.shape[0] and model.contact and chattering_point(model, points, z, watch) >= 0
+
+
+@njit(cache=True)
+def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard, watch):
+    """integrate() for the methods that solve nothing: explicit and semi-implicit Euler, RK4."""
     work = np.zeros((18, 6))
     record = out.shape[0] == n
-    watching = watch.shape[0] == points.shape[0] and model.contact
-    row = 0
     per_step = ext.shape[0] > 1
+    row = 0
     for i in range(n):
         if per_step:
             row = i
@@ -288,15 +302,24 @@ def integrate(model, points, z, h, n, method, ext, out, counters, guard, watch):
             semi_implicit_euler_step(model, points, z, h, fx, fy, tau, counters)
         elif method == EXPLICIT_EULER:
             explicit_euler_step(model, points, z, h, fx, fy, tau, counters)
-        elif method == IMPLICIT_EULER:
-            implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work)
         else:
             rk4_step(model, points, z, h, fx, fy, tau, counters, work)
-        if record:
-            for j in range(6):
-                out[i, j] = z[j]
-        if not is_healthy(z, guard):
+        if stops_after(model, points, z, i, out, record, guard, watch):
             return i + 1
-        if watching and chattering_point(model, points, z, watch) >= 0:
+    return -1
+
+
+@njit(cache=True)
+def integrate_implicit(model, points, z, h, n, method, ext, out, counters, guard, watch):
+    """integrate() for implicit Euler (method is IMPLICIT_EULER; kept for one signature)."""
+    work = np.zeros((18, 6))
+    record = out.shape[0] == n
+    per_step = ext.shape[0] > 1
+    row = 0
+    for i in range(n):
+        if per_step:
+            row = i
+        implicit_euler_step(model, points, z, h, ext[row, 0], ext[row, 1], ext[row, 2], counters, work)
+        if stops_after(model, points, z, i, out, record, guard, watch):
             return i + 1
     return -1

@@ -10,16 +10,16 @@ from pathlib import Path
 
 from compare.accuracy import cold_start
 from custom_sim import compile_cache
-from custom_sim.compile_cache import COMPILING_MESSAGE, is_cached, warm_up
-from custom_sim.integrators import first_unhealthy, integrate
+from custom_sim.compile_cache import COMPILING_MESSAGE, is_cached, needs_compiling, warm_up
+from custom_sim.integrators import first_unhealthy, integrate_explicit, integrate_implicit
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_warm_up_compiles_what_a_run_needs_and_is_quiet_once_cached():
     warm_up(io.StringIO())   # compiles if this process has not yet
-    assert is_cached(integrate) and is_cached(first_unhealthy)
-    assert integrate.signatures, "the stepping loop is compiled"
+    assert not needs_compiling()
+    assert integrate_explicit.signatures and integrate_implicit.signatures, "both stepping loops are compiled"
     quiet = io.StringIO()
     warm_up(quiet)
     assert quiet.getvalue() == ""
@@ -30,6 +30,24 @@ def test_warm_up_says_so_when_it_must_compile(monkeypatch):
     said = io.StringIO()
     warm_up(said)
     assert said.getvalue() == COMPILING_MESSAGE + "\n"
+
+
+PARALLEL_WARM_UP = """
+import sys
+from custom_sim.compile_cache import needs_compiling, warm_up_in_parallel
+from custom_sim.integrators import integrate_explicit, integrate_implicit
+warm_up_in_parallel(sys.stdout, meanwhile=lambda: print("meanwhile"))
+print(needs_compiling(), len(integrate_explicit.signatures), len(integrate_implicit.signatures))
+"""
+
+
+def test_the_parallel_warm_up_compiles_both_loops_into_an_empty_cache_and_says_so_once(tmp_path):
+    """Its two halves are compiled in two processes; afterwards this process holds both loops
+    (loaded from what the other wrote) and the cache is complete."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    out = subprocess.run([sys.executable, "-c", PARALLEL_WARM_UP], cwd=ROOT, env=env, capture_output=True,
+                         text=True, check=True).stdout.splitlines()
+    assert out == [COMPILING_MESSAGE, "meanwhile", "False 1 1"], out
 
 
 def test_the_cache_stamp_follows_numba_cache_dir(tmp_path):

@@ -3,8 +3,9 @@
 Each figure comes from a fresh Python process with NUMBA_CACHE_DIR pointing at a folder of its
 own, so nothing compiled earlier on the machine is reused:
 
-    compile      the simulator compiled into an empty cache (10 steps of box_drop, and the
-                 blow-up check a MuJoCo trajectory goes through: everything `run` compiles)
+    compile      the simulator compiled into an empty cache in one process (10 steps of
+                 box_drop with each integrator, and the blow-up check a MuJoCo trajectory goes
+                 through: everything of custom_sim that `run` compiles)
     run, warm    `python -m compare run SCENES` once that cache is full
     first run    `python -m compare run SCENES` on another empty cache: what a new user waits
     second run   the same command again, its cache now full
@@ -27,13 +28,15 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 
-# The compile probe: works on any revision of custom_sim (no warm_up needed).
+# The compile probe: works on any revision of custom_sim (no warm_up needed); one process,
+# every integrator, so it is the whole compile as one core does it.
 COMPILE_PROBE = """
 import dataclasses, numpy as np, custom_sim as cs
 from custom_sim.integrators import first_unhealthy
 from custom_sim.simulate import blowup_guard
 scene = cs.load_scene('scenarios/box_drop.toml')
-traj = cs.simulate(dataclasses.replace(scene, duration=10 * scene.dt))
+for name in cs.INTEGRATORS:
+    traj = cs.simulate(dataclasses.replace(scene, duration=10 * scene.dt, integrator=name))
 states = np.ascontiguousarray(traj.states())
 first_unhealthy(states, blowup_guard(scene, cs.mass_properties(scene.body), states[0], applied_input=False))
 """

@@ -14,7 +14,7 @@ from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 
-from custom_sim import warm_up
+from custom_sim.compile_cache import warm_up_in_parallel
 
 from ..cli import output_folder
 from ..scenarios import load_all
@@ -169,19 +169,24 @@ def main(args) -> int:
     return 0 if not failed and all(r["pass"] for r in ordered) else 1
 
 
-def _compile_twin_callback() -> None:
+def prepare_workers() -> None:
+    """What every worker needs before its first scenario, done once here so that the forked
+    workers inherit it: the dynamics twin's compiled passive-force callback, and the modules of
+    the checks and the report (matplotlib, scipy, mujoco: a second or more a process)."""
+    import compare.report  # noqa: F401
+    import compare.verdict.attribution  # noqa: F401
+    import compare.verdict.comparison  # noqa: F401
+    import compare.verdict.contact_check  # noqa: F401
+    import compare.verdict.dynamics_check  # noqa: F401
+    import compare.verdict.step_check  # noqa: F401
+    import compare.accuracy.reference  # noqa: F401
     from mujoco_models.passive import callback
     callback()
 
 
 def compile_everything() -> None:
     """Compile once, before the workers start, so that they load numba's cache instead of each
-    compiling the same code: custom_sim's loop here, and at the same time, in a process of its
-    own, the dynamics twin's passive-force callback (on a first run they are about as long)."""
-    import multiprocessing
-
-    twin = multiprocessing.get_context("fork").Process(target=_compile_twin_callback, daemon=True)
-    twin.start()
-    warm_up()  # prints "compiling the simulator (first run only) ..." when it has to
-    twin.join()
-
+    compiling the same code: custom_sim's two stepping loops at once, in this process and a
+    forked one, and here, meanwhile, what prepare_workers does. Prints "compiling the
+    simulator (first run only) ..." when it has to."""
+    warm_up_in_parallel(meanwhile=prepare_workers)

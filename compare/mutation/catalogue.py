@@ -65,7 +65,7 @@ MISTAKES = (
             "Numerical integration: RK4", "integrators.py",
             "ch = (1.0 if s == 2 else 0.5) * h", "ch = 0.5 * h"),
     Mistake("implicit_euler_old_positions", "implicit Euler that evaluates the force at the old positions q0",
-            "Numerical integration: implicit Euler, v1 = v0 + a(q1, v1) dt", "integrators.py",
+            "Numerical integration: implicit Euler, v1 = v0 + a(q1, v1) dt", "implicit_residual.py",
             "zi[j] = z0[j] + h * zi[3 + j]", "zi[j] = z0[j]"),
     Mistake("compound_no_parallel_axis", "compound inertia without the parallel-axis term m |o - com|^2",
             "Algorithm 3, line 2: inertia about the COM", "bodies.py",
