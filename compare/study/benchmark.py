@@ -2,7 +2,9 @@
 
 1. custom_sim: runs per second of simulate_batch (one compiled call, prange over the runs, 1 and
    2 threads) against custom_sim.simulate called once per run, on the same runs (box_drop with
-   RUNS stiffnesses) at three step sizes; the minimum of REPEATS timings after a warm-up.
+   RUNS stiffnesses) at three step sizes; the minimum of REPEATS timings after a warm-up. The
+   count of unstable runs is printed beside: for those a single call also builds the
+   diagnosis (the stable step), which a batch leaves to its caller.
 2. MuJoCo: runs per second of mujoco_models.batch (rollout over several models, 1 and 2
    threads) against simulate_mujoco once per run.
 3. The study's wall time on 1 and 2 workers of one thread each (the same study, a fresh folder
@@ -69,7 +71,8 @@ def custom_rates() -> list[dict]:
         single = _best(lambda: _each(simulate, scenes))
         one = _best(lambda: simulate_batch(scenes, threads=1))
         two = _best(lambda: simulate_batch(scenes, threads=2))
-        out.append({"dt": dt, "steps": scenes[0].steps, "runs": len(scenes),
+        unstable = sum(r.diverged for r in simulate_batch(scenes, threads=1))
+        out.append({"dt": dt, "steps": scenes[0].steps, "runs": len(scenes), "unstable": unstable,
                     "runs_per_s_single_calls": len(scenes) / single,
                     "runs_per_s_batch_1_thread": len(scenes) / one,
                     "runs_per_s_batch_2_threads": len(scenes) / two,
@@ -157,7 +160,8 @@ def main(argv=None) -> int:
     for r in result["custom"]:
         print(f"custom_sim dt={r['dt']:g} ({r['steps']} steps): {r['runs_per_s_single_calls']:.0f} runs/s one call "
               f"per run, batch {r['runs_per_s_batch_1_thread']:.0f} (1 thread, x{r['speedup_1_thread']:.1f}), "
-              f"{r['runs_per_s_batch_2_threads']:.0f} (2 threads, x{r['speedup_2_threads']:.1f})")
+              f"{r['runs_per_s_batch_2_threads']:.0f} (2 threads, x{r['speedup_2_threads']:.1f}); "
+              f"{r['unstable']} of the {r['runs']} runs unstable")
     for r in result["mujoco"]:
         print(f"MuJoCo dt={r['dt']:g} ({r['steps']} steps): {r['runs_per_s_single_calls']:.1f} runs/s one call "
               f"per run, rollout {r['runs_per_s_rollout_1_thread']:.1f} (1 thread, x{r['speedup_1_thread']:.2f}), "

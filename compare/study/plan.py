@@ -115,9 +115,18 @@ def estimated_cost(point: Point, twin: bool) -> float:
     return cost
 
 
-def batches(points: list[Point], twin: bool, target: float = BATCH_SECONDS) -> list[list[Point]]:
-    """Points packed in order into batches of about `target` seconds (at least one point each).
-    Points of one physics key stay near each other, so a batch needs few references."""
+# Batches per worker at least, when the study is small: the last batches to finish keep one
+# worker busy while the others wait, so each is a small share of a worker's work.
+BATCHES_PER_WORKER = 6
+
+
+def batches(points: list[Point], twin: bool, target: float = BATCH_SECONDS, workers: int = 1) -> list[list[Point]]:
+    """Points packed in order into batches of about `target` seconds, or smaller, so that each
+    of `workers` gets BATCHES_PER_WORKER of them (at least one point each); the costliest batch
+    first, so that the cheap ones fill the end. Points of one physics key stay near each
+    other, so a batch needs few references."""
+    total = sum(estimated_cost(p, twin) for p in points)
+    target = min(target, total / (BATCHES_PER_WORKER * max(1, workers)))
     out, current, spent = [], [], 0.0
     for point in sorted(points, key=lambda p: p.physics):
         cost = estimated_cost(point, twin)
@@ -128,4 +137,4 @@ def batches(points: list[Point], twin: bool, target: float = BATCH_SECONDS) -> l
         spent += cost
     if current:
         out.append(current)
-    return out
+    return sorted(out, key=lambda b: -sum(estimated_cost(p, twin) for p in b))

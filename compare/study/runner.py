@@ -89,7 +89,7 @@ def run_study(source: SceneSource, varies: list[Vary], integrators: list[str], o
             before = engine.retried
             refs = _references(engine, todo, out / "references", progress)
             tasks = [_batch_task(b, [refs[p.key] for p in b], threads, twin)
-                     for b in batches(todo, twin, batch_seconds)]
+                     for b in batches(todo, twin, batch_seconds, n_workers)]
             results = engine.run(measure_batch, tasks, desc="study", store=store, split=_split,
                                  failed=_failed, progress=progress)
             retried = engine.retried - before
