@@ -69,7 +69,10 @@ def write_csv(traj: Trajectory, path: str | Path) -> None:
     rows = np.column_stack([getattr(traj, c) if c != "energy" else traj.energy for c in CSV_COLUMNS])
     if not np.all(np.isfinite(rows)):
         raise ValueError(f"refusing to write non-finite values to {path}")
-    np.savetxt(path, rows, delimiter=",", header=",".join(CSV_COLUMNS), comments="", fmt=CSV_FORMAT)
+    # one format operation for the whole table (formatted in C): a loop over rows took 10 % of a run
+    line = ",".join([CSV_FORMAT] * rows.shape[1]) + "\n"
+    text = ",".join(CSV_COLUMNS) + "\n" + (line * rows.shape[0]) % tuple(rows.ravel().tolist())
+    Path(path).write_text(text)
 
 
 def read_csv(path: str | Path) -> dict[str, np.ndarray]:
