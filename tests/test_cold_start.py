@@ -66,3 +66,14 @@ def test_cold_start_table_shows_every_stage_for_each_tree():
     for stage in ("compile (empty cache)", "run, cache warm", "first run (empty cache)", "second run"):
         assert stage in text
     assert text.count("1.5") == 8 and text.count("1.2") == 8
+
+
+def test_cold_start_rounds_keep_each_stages_fastest_round(monkeypatch):
+    """Round 1 is slow in the compile and the first run, round 2 in the two warm runs: each
+    stage keeps its own minimum, with the CPU time of that same round."""
+    walls = iter([9.0, 2.0, 8.0, 2.0,    # round 1: compile, run warm, first run, second run
+                  5.0, 3.0, 6.0, 3.0])   # round 2
+    monkeypatch.setattr(cold_start, "timed", lambda command, cwd, cache: (lambda w: cold_start.Timed(w, w + 0.5, 0))(next(walls)))
+    (r,) = cold_start.measure([ROOT], ["box_slide"], rounds=2)
+    assert [r.compile.wall, r.run_warm.wall, r.first_run.wall, r.second_run.wall] == [5.0, 2.0, 6.0, 2.0]
+    assert r.compile.cpu == 5.5 and r.run_warm.cpu == 2.5

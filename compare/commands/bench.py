@@ -101,7 +101,7 @@ def cold(args) -> int:
             except ValueError as err:
                 raise BadInput(str(err)) from None
         load = cold_start.load_average()
-        results = cold_start.measure([tree for _, tree in trees], names)
+        results = cold_start.measure([tree for _, tree in trees], names, rounds=args.rounds or 1)
         labelled = [(label, r) for (label, _), r in zip(trees, results)]
         if args.json:
             for label, r in labelled:
