@@ -12,7 +12,6 @@ compiling it again at the same time; warm_up_in_parallel() splits it over two pr
 from __future__ import annotations
 
 import hashlib
-import os
 import sys
 import time
 from pathlib import Path
@@ -70,20 +69,14 @@ def needs_compiling() -> bool:
     return not all(is_cached(f) for f in (integrate_explicit, integrate_implicit, first_unhealthy))
 
 
-# warm_up's parts: the methods whose compiled loop it runs; the parts are independent (no
-# compiled function of one calls the other's), so two processes compile them at once.
-EXPLICIT_PART = ("explicit_euler", "semi_implicit_euler", "rk4")
-IMPLICIT_PART = ("implicit_euler",)
-
-
-def warm_up(stream=None, part=EXPLICIT_PART + IMPLICIT_PART) -> float:
+def warm_up(stream=None, part=None) -> float:
     """Compile (or load from the cache) everything a run executes: the stepping loops of the
-    integrators in `part` and the blow-up check of a recorded trajectory, through a 2-step run
-    of a small scene with each. Prints COMPILING_MESSAGE to `stream` (stderr) when it has to
-    compile. Returns the seconds it took."""
+    integrators named in `part` (default: all four) and the blow-up check of a recorded
+    trajectory, through a 2-step run of a small scene with each. Prints COMPILING_MESSAGE to
+    `stream` (stderr) when it has to compile. Returns the seconds it took."""
     import dataclasses
 
-    from .integrators import first_unhealthy
+    from .integrators import INTEGRATORS, first_unhealthy
     from .scene import parse_scene
     from .simulate import blowup_guard, simulate
 
@@ -93,7 +86,7 @@ def warm_up(stream=None, part=EXPLICIT_PART + IMPLICIT_PART) -> float:
     scene = parse_scene({"name": "warm_up", "duration": 2e-4, "dt": 1e-4,
                          "body": {"shape": "box", "mass": 1.0, "size": [0.2, 0.1]},
                          "initial": {"position": [0.0, 0.04]}}, file="<warm_up>")
-    for integrator in part:
+    for integrator in part or INTEGRATORS:
         traj = simulate(dataclasses.replace(scene, integrator=integrator))
     states = traj.states()
     first_unhealthy(states, blowup_guard(scene, _props(scene), states[0], applied_input=False))
@@ -101,27 +94,29 @@ def warm_up(stream=None, part=EXPLICIT_PART + IMPLICIT_PART) -> float:
 
 
 def warm_up_in_parallel(stream=None, meanwhile=None) -> float:
-    """warm_up(), its implicit part compiled in a forked process while this one compiles the
-    rest (on a first run the two are about as long) and then calls meanwhile(), if given.
-    Returns the seconds it took."""
+    """warm_up(), with the implicit integrators' loop compiled in a forked process while this
+    one compiles the explicit ones' (on a first run the two are about as long; no compiled
+    function of one loop calls the other), then meanwhile(), if given. Returns the seconds it
+    took."""
+    import io
     import multiprocessing
 
+    from .integrators import INTEGRATORS
+
     start = time.perf_counter()
-    if not needs_compiling():
-        warm_up(stream)
-        if meanwhile is not None:
-            meanwhile()
-        return time.perf_counter() - start
-    print(COMPILING_MESSAGE, file=stream or sys.stderr, flush=True)
-    with open(os.devnull, "w") as quiet:
-        other = multiprocessing.get_context("fork").Process(target=warm_up, args=(quiet, IMPLICIT_PART),
+    other = None
+    if needs_compiling():
+        print(COMPILING_MESSAGE, file=stream or sys.stderr, flush=True)
+        implicit = [name for name, method in INTEGRATORS.items() if method.implicit]
+        other = multiprocessing.get_context("fork").Process(target=warm_up, args=(io.StringIO(), implicit),
                                                             daemon=True)
         other.start()
-        warm_up(quiet, EXPLICIT_PART)
-        if meanwhile is not None:
-            meanwhile()
+        warm_up(io.StringIO(), [name for name in INTEGRATORS if name not in implicit])
+    if meanwhile is not None:
+        meanwhile()
+    if other is not None:
         other.join()
-        warm_up(quiet)   # loads what the other process compiled (compiles it, had that failed)
+    warm_up(stream)   # loads what is cached (compiles what the other process did not leave there)
     return time.perf_counter() - start
 
 

@@ -276,6 +276,13 @@ def integrate(model, points, z, h, n, method, ext, out, counters, guard, watch) 
 
 
 @njit(cache=True, inline="always")
+def applied(ext, i):
+    """(Fx N, Fy N, tau N m) applied during step i: ext's row i, or its one row if constant."""
+    row = i if ext.shape[0] > 1 else 0
+    return ext[row, 0], ext[row, 1], ext[row, 2]
+
+
+@njit(cache=True, inline="always")
 def stops_after(model, points, z, i, out, record, guard, watch):
     """Record the state after step i (0-based) in out[i] when record; True when the run must
     stop there: blown up (is_healthy) or a contact point chattering (chatter.py)."""
@@ -292,12 +299,8 @@ def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard
     """integrate() for the methods that solve nothing: explicit and semi-implicit Euler, RK4."""
     work = np.zeros((18, 6))
     record = out.shape[0] == n
-    per_step = ext.shape[0] > 1
-    row = 0
     for i in range(n):
-        if per_step:
-            row = i
-        fx, fy, tau = ext[row, 0], ext[row, 1], ext[row, 2]
+        fx, fy, tau = applied(ext, i)
         if method == SEMI_IMPLICIT_EULER:
             semi_implicit_euler_step(model, points, z, h, fx, fy, tau, counters)
         elif method == EXPLICIT_EULER:
@@ -314,12 +317,9 @@ def integrate_implicit(model, points, z, h, n, method, ext, out, counters, guard
     """integrate() for implicit Euler (method is IMPLICIT_EULER; kept for one signature)."""
     work = np.zeros((18, 6))
     record = out.shape[0] == n
-    per_step = ext.shape[0] > 1
-    row = 0
     for i in range(n):
-        if per_step:
-            row = i
-        implicit_euler_step(model, points, z, h, ext[row, 0], ext[row, 1], ext[row, 2], counters, work)
+        fx, fy, tau = applied(ext, i)
+        implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work)
         if stops_after(model, points, z, i, out, record, guard, watch):
             return i + 1
     return -1

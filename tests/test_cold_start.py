@@ -38,16 +38,20 @@ from custom_sim.compile_cache import needs_compiling, warm_up_in_parallel
 from custom_sim.integrators import integrate_explicit, integrate_implicit
 warm_up_in_parallel(sys.stdout, meanwhile=lambda: print("meanwhile"))
 print(needs_compiling(), len(integrate_explicit.signatures), len(integrate_implicit.signatures))
+# who compiled what: this process the explicit loop (a cache miss), the other the implicit one
+# (here a cache hit: loaded from what the other process wrote)
+print(sum(integrate_explicit.stats.cache_misses.values()), sum(integrate_implicit.stats.cache_misses.values()),
+      sum(integrate_implicit.stats.cache_hits.values()))
 """
 
 
 def test_the_parallel_warm_up_compiles_both_loops_into_an_empty_cache_and_says_so_once(tmp_path):
-    """Its two halves are compiled in two processes; afterwards this process holds both loops
-    (loaded from what the other wrote) and the cache is complete."""
+    """Its two halves are compiled in two processes: this one compiles the explicit loop and
+    loads the implicit one from what the other wrote; afterwards the cache is complete."""
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
     out = subprocess.run([sys.executable, "-c", PARALLEL_WARM_UP], cwd=ROOT, env=env, capture_output=True,
                          text=True, check=True).stdout.splitlines()
-    assert out == [COMPILING_MESSAGE, "meanwhile", "False 1 1"], out
+    assert out == [COMPILING_MESSAGE, "meanwhile", "False 1 1", "1 0 1"], out
 
 
 def test_the_cache_stamp_follows_numba_cache_dir(tmp_path):

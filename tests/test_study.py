@@ -18,7 +18,9 @@ from compare.engine import Engine
 from compare.study import table
 from compare.study.fields import SceneSource, parse_values, parse_vary
 from compare.study.measure import twin_rows
-from compare.study.plan import physics_scene, plan, sample_rows, sample_times
+from compare.study.plan import (BATCHES_PER_WORKER, batches, estimated_cost, physics_scene, plan, sample_rows,
+                                sample_times)
+from compare.scenarios import resolve
 from compare.study.runner import run_study
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -189,3 +191,17 @@ def test_a_task_that_raises_is_split_and_a_run_that_fails_twice_is_marked(engine
     assert out["fine"] == 0.75 and out["good"] == 0.5
     assert out["bad"].startswith("failed: ZeroDivisionError") and out["alone"].startswith("failed: ZeroDivisionError")
     assert "batch" not in out and engine.retried - before == 2
+
+
+def test_batches_give_every_worker_several_and_start_with_the_costliest():
+    """A small study is cut so that each worker gets BATCHES_PER_WORKER batches or more (one
+    point each at least), submitted costliest first so that the last to finish are short."""
+    source = SceneSource.read(resolve("box_drop"))
+    points = plan(source, [parse_vary("contact.k=3e3:3e4:4:log"), parse_vary("dt=2.5e-5:1e-4:6:log")],
+                  ["semi_implicit_euler", "rk4"])
+    for workers in (1, 2):
+        cut = batches(points, twin=False, workers=workers)
+        assert len(cut) >= min(len(points), BATCHES_PER_WORKER * workers)
+        assert sorted(p.key for b in cut for p in b) == sorted(p.key for p in points), "every point once"
+        costs = [sum(estimated_cost(p, False) for p in b) for b in cut]
+        assert costs == sorted(costs, reverse=True)

@@ -41,14 +41,15 @@ def _scenes(dt: float, integrator: str = "semi_implicit_euler"):
             for k in np.geomspace(3e3, 3e4, RUNS)]
 
 
-def _best(fn) -> float:
-    fn()
+def _best(fn) -> tuple[float, object]:
+    """(the fastest of REPEATS timings of fn() after a warm-up call, s; fn's last result)."""
+    result = fn()
     times = []
     for _ in range(REPEATS):
         start = time.perf_counter()
-        fn()
+        result = fn()
         times.append(time.perf_counter() - start)
-    return min(times)
+    return min(times), result
 
 
 def _each(simulate, scenes) -> None:
@@ -68,10 +69,10 @@ def custom_rates() -> list[dict]:
     out = []
     for dt in STEPS:
         scenes = _scenes(dt)
-        single = _best(lambda: _each(simulate, scenes))
-        one = _best(lambda: simulate_batch(scenes, threads=1))
-        two = _best(lambda: simulate_batch(scenes, threads=2))
-        unstable = sum(r.diverged for r in simulate_batch(scenes, threads=1))
+        single, _ = _best(lambda: _each(simulate, scenes))
+        one, runs = _best(lambda: simulate_batch(scenes, threads=1))
+        two, _ = _best(lambda: simulate_batch(scenes, threads=2))
+        unstable = sum(r.diverged for r in runs)
         out.append({"dt": dt, "steps": scenes[0].steps, "runs": len(scenes), "unstable": unstable,
                     "runs_per_s_single_calls": len(scenes) / single,
                     "runs_per_s_batch_1_thread": len(scenes) / one,
@@ -87,9 +88,9 @@ def mujoco_rates() -> list[dict]:
     out = []
     for dt in STEPS[1:]:
         scenes = _scenes(dt)
-        single = _best(lambda: [simulate_mujoco(s) for s in scenes])
-        one = _best(lambda: simulate_mujoco_batch(scenes, threads=1))
-        two = _best(lambda: simulate_mujoco_batch(scenes, threads=2))
+        single, _ = _best(lambda: [simulate_mujoco(s) for s in scenes])
+        one, _ = _best(lambda: simulate_mujoco_batch(scenes, threads=1))
+        two, _ = _best(lambda: simulate_mujoco_batch(scenes, threads=2))
         out.append({"dt": dt, "steps": scenes[0].steps, "runs": len(scenes),
                     "runs_per_s_single_calls": len(scenes) / single,
                     "runs_per_s_rollout_1_thread": len(scenes) / one,

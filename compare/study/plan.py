@@ -125,16 +125,15 @@ def batches(points: list[Point], twin: bool, target: float = BATCH_SECONDS, work
     of `workers` gets BATCHES_PER_WORKER of them (at least one point each); the costliest batch
     first, so that the cheap ones fill the end. Points of one physics key stay near each
     other, so a batch needs few references."""
-    total = sum(estimated_cost(p, twin) for p in points)
-    target = min(target, total / (BATCHES_PER_WORKER * max(1, workers)))
-    out, current, spent = [], [], 0.0
-    for point in sorted(points, key=lambda p: p.physics):
-        cost = estimated_cost(point, twin)
+    priced = sorted(((p, estimated_cost(p, twin)) for p in points), key=lambda pc: pc[0].physics)
+    target = min(target, sum(c for _, c in priced) / (BATCHES_PER_WORKER * max(1, workers)))
+    out, current, spent = [], [], 0.0   # out: (batch, its cost)
+    for point, cost in priced:
         if current and spent + cost > target:
-            out.append(current)
+            out.append((current, spent))
             current, spent = [], 0.0
         current.append(point)
         spent += cost
     if current:
-        out.append(current)
-    return sorted(out, key=lambda b: -sum(estimated_cost(p, twin) for p in b))
+        out.append((current, spent))
+    return [batch for batch, cost in sorted(out, key=lambda bc: -bc[1])]
