@@ -11,7 +11,7 @@ point of the jump that the convex hull of the two sides solves (Filippov's solut
     G_lam(v1) = v1 - v0 - h (a_out + lam f_j)(q0 + h v1, v1) = 0,  0 <= lam <= 1
 
 a_out being the acceleration without point j; a_out + lam f_j is a with point j's load scaled
-by lam (forces.loaded_accelerations). Four equations in (v1, lam), solved by Newton:
+by lam (forces.held_share). Four equations in (v1, lam), solved by Newton:
 
     M dv - h f_j dlam = -G_lam,      M = dG_lam/dv1 = I - h (h da/dq + da/dv)
     h grad_q d_j . dv = -d_j,        grad_q d_j = (0, -1, -rot r_x)   (d_j = -(y + r_y))
@@ -34,13 +34,6 @@ from .implicit_residual import residual
 from .linear3 import solve3
 
 JUMP_MAX_ITERATIONS = 20
-
-
-@njit(cache=True)
-def held_residual(model, points, z0, zi, h, fx, fy, tau, held, share, g, counters):
-    """G_lam(v1) of implicit_residual.residual, point `held` carrying the share lam of its load:
-    one compiled copy for both calls of jump_step."""
-    return residual(model, points, z0, zi, h, fx, fy, tau, held, share, g, counters)
 
 
 @njit(cache=True, inline="always")
@@ -70,7 +63,7 @@ def jump_step(model, points, z0, zi, h, fx, fy, tau, counters, work, step_tol, r
     held = np.int64(nearest_point(model, points, zi))  # int64, never a literal type (forces.no_point)
     rot = 1.0 if model.points_rotate else 0.0
     lam = 0.5
-    res = held_residual(model, points, z0, zi, h, fx, fy, tau, held, lam, g, counters)
+    res = residual(model, points, z0, zi, h, fx, fy, tau, held, lam, g, counters)
     it = 0
     settled = False
     while it < JUMP_MAX_ITERATIONS:
@@ -104,7 +97,7 @@ def jump_step(model, points, z0, zi, h, fx, fy, tau, counters, work, step_tol, r
             zi[3 + j] += dv
             size = max(size, abs(dv))
         lam += dlam
-        res = held_residual(model, points, z0, zi, h, fx, fy, tau, held, lam, g, counters)
+        res = residual(model, points, z0, zi, h, fx, fy, tau, held, lam, g, counters)
         if size <= step_tol:
             settled = True
             break

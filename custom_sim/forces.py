@@ -85,13 +85,6 @@ def point_load(model, rx, ry, d, vx, vy, om):
 @njit(cache=True, inline="always")
 def accelerations(model, points, z, fx, fy, tau):
     """(ax, ay, alpha_theta) in m/s^2 and rad/s^2 at state z, with (fx N, fy N, tau N m) applied."""
-    return loaded_accelerations(model, points, z, fx, fy, tau, -1, 1.0)
-
-
-@njit(cache=True, inline="always")
-def loaded_accelerations(model, points, z, fx, fy, tau, held, share):
-    """accelerations(), but with contact point `held` (-1: none) acting whatever its depth and
-    with its load scaled by share (the jump step's lambda in [0, 1], filippov.py)."""
     theta, vx, vy, om = z[2], z[3], z[4], z[5]
     if model.gravity:
         fy -= model.g / model.inv_mass
@@ -101,17 +94,33 @@ def loaded_accelerations(model, points, z, fx, fy, tau, held, share):
             lx, ly = points[i, 0], points[i, 1]
             rx, ry = cs * lx - sn * ly, sn * lx + cs * ly  # r = R(theta) l
             d = -(z[1] + ry)
-            if i != held and d <= 0.0:
+            if d <= 0.0:
                 continue  # free flight: no force, no damping in the air
             ft, fn, roll = point_load(model, rx, ry, d, vx, vy, om)
-            if i == held:
-                ft, fn, roll = share * ft, share * fn, share * roll
             fx += ft
             fy += fn
             tau += rx * fn - ry * ft
             if model.rolling:
                 tau -= roll
     return fx * model.inv_mass, fy * model.inv_mass, tau * model.inv_inertia
+
+
+@njit(cache=True, inline="always")
+def held_share(model, points, z, held, share, fx, fy, tau):
+    """The applied load (fx N, fy N, tau N m) plus (share - touching) L, L the load of contact
+    point `held` at state z whatever its depth, touching = 1 where it is below the ground: with
+    it, accelerations() counts share L of that point's load whether it touches or not (the
+    jump step's lambda, filippov.py). Its loop adds L where the point touches."""
+    cs, sn = rotation(model, z[2])
+    lx, ly = points[held, 0], points[held, 1]
+    rx, ry = cs * lx - sn * ly, sn * lx + cs * ly
+    d = -(z[1] + ry)
+    extra = share - (1.0 if d > 0.0 else 0.0)
+    ft, fn, roll = point_load(model, rx, ry, d, z[3], z[4], z[5])
+    tau += extra * (rx * fn - ry * ft)
+    if model.rolling:
+        tau -= extra * roll
+    return fx + extra * ft, fy + extra * fn, tau
 
 
 @njit(cache=True)
@@ -148,7 +157,7 @@ def acceleration_jacobian(model, points, z, jac):
 
 @njit(cache=True)
 def loaded_acceleration_jacobian(model, points, z, jac, held, share_held):
-    """acceleration_jacobian() of loaded_accelerations(): point `held` (-1: none) acts whatever
+    """acceleration_jacobian() of the accelerations with held_share() applied: point `held` (-1: none) acts whatever
     its depth, its terms scaled by share_held. Every term of the held point carries the factor
     share once (share = 1 multiplies exactly: with held = -1 this is the plain Jacobian to the
     bit). One compiled body for both: a copy specialised to held = -1 was two seconds of a

@@ -57,35 +57,28 @@ INTEGRATORS = {
 
 
 @njit(cache=True, inline="always")
-def explicit_euler_step(model, points, z, h, fx, fy, tau, counters):
+def euler_step(model, points, z, h, fx, fy, tau, counters, semi):
+    """One step of explicit Euler (semi False) or semi-implicit Euler (semi True). Both take
+    the acceleration at the start of the step; they differ only in which update comes first,
+    so one body serves both (one inlined copy of the force law instead of two)."""
     ax, ay, aw = accelerations(model, points, z, fx, fy, tau)
     counters[FORCE_EVALS] += 1
-    z[0] += h * z[3]
-    z[1] += h * z[4]
-    z[2] += h * z[5]
-    z[3] += h * ax
-    z[4] += h * ay
-    z[5] += h * aw
-
-
-@njit(cache=True, inline="always")
-def semi_implicit_euler_step(model, points, z, h, fx, fy, tau, counters):
-    # seed Algorithm 1, lines 7-8: v <- v + (F/m) dt, then p <- p + v dt
-    ax, ay, aw = accelerations(model, points, z, fx, fy, tau)
-    counters[FORCE_EVALS] += 1
-    z[3] += h * ax
-    z[4] += h * ay
-    z[5] += h * aw
-    z[0] += h * z[3]
-    z[1] += h * z[4]
-    z[2] += h * z[5]
-
-
-@njit(cache=True)
-def implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters):
-    """G(v1) = v1 - v0 - h a(q0 + h v1, v1) into g for the velocities zi[3:] (sets the positions
-    zi[:3] = q0 + h v1); returns max |G| (m/s, rad/s). implicit_residual.py, no point held."""
-    return residual(model, points, z0, zi, h, fx, fy, tau, no_point(), 1.0, g, counters)
+    if semi:
+        # seed Algorithm 1, lines 7-8: v <- v + (F/m) dt, then p <- p + v dt
+        z[3] += h * ax
+        z[4] += h * ay
+        z[5] += h * aw
+        z[0] += h * z[3]
+        z[1] += h * z[4]
+        z[2] += h * z[5]
+    else:
+        # p <- p + v dt with the old velocity, then v <- v + (F/m) dt
+        z[0] += h * z[3]
+        z[1] += h * z[4]
+        z[2] += h * z[5]
+        z[3] += h * ax
+        z[4] += h * ay
+        z[5] += h * aw
 
 
 @njit(cache=True)
@@ -118,10 +111,11 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
     g = work[16, :3]
     v_start = work[17, :3]
     keep = work[10]      # the Newton state while the jump step is tried
+    none = no_point()    # residual() with no point held: G(v1)
     ax, ay, aw = accelerations(model, points, z0, fx, fy, tau)
     counters[FORCE_EVALS] += 1
     zi[3], zi[4], zi[5] = z0[3] + h * ax, z0[4] + h * ay, z0[5] + h * aw
-    res = implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters)
+    res = residual(model, points, z0, zi, h, fx, fy, tau, none, 1.0, g, counters)
     converged = False
     tried_jump = False
     it = 0
@@ -140,7 +134,7 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
         while True:
             for j in range(3):
                 zi[3 + j] = v_start[j] + t * dv[j]
-            trial = implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters)
+            trial = residual(model, points, z0, zi, h, fx, fy, tau, none, 1.0, g, counters)
             if trial <= (1.0 - 1e-4 * t) * res:
                 break
             if t * size <= NEWTON_TOL:
@@ -152,7 +146,7 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
                     if landed:
                         converged = True
                     else:
-                        trial = implicit_residual(model, points, z0, zi, h, fx, fy, tau, g, counters)
+                        trial = residual(model, points, z0, zi, h, fx, fy, tau, none, 1.0, g, counters)
                 break
             t *= 0.5
         if converged:
@@ -298,15 +292,14 @@ def stops_after(model, points, z, i, out, record, guard, watch):
 def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard, watch):
     """integrate() for the methods that solve nothing: explicit and semi-implicit Euler, RK4."""
     work = np.zeros((18, 6))
+    semi = method == SEMI_IMPLICIT_EULER
     record = out.shape[0] == n
     for i in range(n):
         fx, fy, tau = applied(ext, i)
-        if method == SEMI_IMPLICIT_EULER:
-            semi_implicit_euler_step(model, points, z, h, fx, fy, tau, counters)
-        elif method == EXPLICIT_EULER:
-            explicit_euler_step(model, points, z, h, fx, fy, tau, counters)
-        else:
+        if method == RK4:
             rk4_step(model, points, z, h, fx, fy, tau, counters, work)
+        else:
+            euler_step(model, points, z, h, fx, fy, tau, counters, semi)
         if stops_after(model, points, z, i, out, record, guard, watch):
             return i + 1
     return -1

@@ -96,50 +96,58 @@ def mapping_error(scene: Scene, integrator: str | None = None, dt: float | None 
 
 
 def _read_error(scene: Scene, model, data, rows: np.ndarray, states: np.ndarray, props) -> MappingError:
+    """Read MuJoCo's rows at the touching steps (one mj_forward each), then e for all of them at
+    once: each step's m rows padded with zero rows to the most any step has, which add nothing
+    (J = 0, f = 0 there)."""
     nv = model.nv
     _, py = contact_points_world(props, states[:, 0], states[:, 1], states[:, 2])
     touching = np.flatnonzero(np.any(py < 0.0, axis=1))
     if len(touching) > MAX_EVALUATIONS:
         touching = touching[np.linspace(0, len(touching) - 1, MAX_EVALUATIONS).astype(int)]
     k, c, d = scene.contact.k, scene.contact.c, PENALTY_IMPEDANCE
-    weight = props.mass * scene.g if scene.has("gravity") else 0.0
-    residual, fmax, ratios, loads = 0.0, 0.0, [], []
-    a_hat = float(model.body_invweight0[1, 0])   # MuJoCo's A_hat, until a row reads it
+    read = []   # per step with rows: (J, J M^-1, f, k depth - c v on MuJoCo's depth and velocity, A_hat)
     for i in touching:
         mujoco.mj_setState(model, data, rows[i], FULL_STATE)
         mujoco.mj_forward(model, data)
         m = data.nefc
         if m == 0:
             continue
-        J = np.array(data.efc_J[:m * nv]).reshape(m, nv)
+        jac = data.efc_J[:m * nv].reshape(m, nv).copy()
         minv_jt = np.empty((m, nv))
-        mujoco.mj_solveM(model, data, minv_jt, J)          # rows of (M^-1 J^T)^T = J M^-1
-        A = J @ minv_jt.T
-        a_hat = float(data.efc_diagA[0])
-        f = np.array(data.efc_force[:m])
-        a0 = J @ data.qacc_smooth
-        e = d * ((A / a_hat - np.eye(m)) @ f + a0 / a_hat)
-        wanted = k * (-data.efc_pos[:m]) - c * data.efc_vel[:m]
-        on = f > 0.0                                          # rows the solver did not clamp
-        if np.any(on):
-            residual = max(residual, float(np.max(np.abs((f - wanted + e)[on]))))
-        fmax = max(fmax, float(np.max(f)))
-        ratios.extend(np.diag(A) / a_hat)
-        # against our law on our depth: MuJoCo's depth is ours + the contact sphere's radius
-        # (mujoco_models/geometry.py) for a box or compound body, so its spring adds k r_s
-        offset = k * CONTACT_SPHERE_RADIUS if props.points_rotate else 0.0
-        wrong = np.where(on, offset - e, 0.0)
-        # generalised: the torque of the rows (J's hinge column) and of their error
-        torque = float(J[:, 2] @ f) if nv == 3 else 0.0
-        torque_wrong = float(J[:, 2] @ wrong) if nv == 3 else 0.0
-        loads.append((float(f.sum()), float(np.abs(wrong).sum()), abs(torque), abs(torque_wrong)))
-    if not ratios:
-        return MappingError(0.0, 0.0, 1.0, 1.0, a_hat, 0, 0.0)
-    load, wrong, torque, torque_wrong = np.array(loads).T
+        mujoco.mj_solveM(model, data, minv_jt, jac)
+        read.append((jac, minv_jt, data.efc_force[:m].copy(),
+                     k * (-data.efc_pos[:m]) - c * data.efc_vel[:m], jac @ data.qacc_smooth, data.efc_diagA[0]))
+    if not read:
+        return MappingError(0.0, 0.0, 1.0, 1.0, float(model.body_invweight0[1, 0]), 0, 0.0)
+    T, width = len(read), max(len(r[2]) for r in read)
+    J, minv_jt = np.zeros((T, width, nv)), np.zeros((T, width, nv))
+    f, wanted, a0 = np.zeros((T, width)), np.zeros((T, width)), np.zeros((T, width))
+    real = np.zeros((T, width), dtype=bool)
+    for t, (jac, mj, force, want, acc, _) in enumerate(read):
+        m = len(force)
+        J[t, :m], minv_jt[t, :m], f[t, :m], wanted[t, :m], a0[t, :m], real[t, :m] = jac, mj, force, want, acc, True
+    a_hat = np.array([r[5] for r in read])
+    A = J @ minv_jt.transpose(0, 2, 1)                     # J M^-1 J^T, (steps, rows, rows)
+    scaled = A / a_hat[:, None, None] - np.eye(A.shape[1])
+    e = d * (np.einsum("tij,tj->ti", scaled, f) + a0 / a_hat[:, None])
+    on = f > 0.0                                            # rows the solver did not clamp
+    residual = float(np.max(np.abs(f - wanted + e)[on])) if np.any(on) else 0.0
+    fmax = float(np.max(f))
+    ratios = (np.diagonal(A, axis1=1, axis2=2) / a_hat[:, None])[real]
+    # against our law on our depth: MuJoCo's depth is ours + the contact sphere's radius
+    # (mujoco_models/geometry.py) for a box or compound body, so its spring adds k r_s
+    offset = k * CONTACT_SPHERE_RADIUS if props.points_rotate else 0.0
+    wrong = np.where(on, offset - e, 0.0)
+    load = f.sum(axis=1)
+    wrong_sum = np.abs(wrong).sum(axis=1)
+    # generalised: the torque of the rows (J's hinge column) and of their error
+    torque = np.abs(np.einsum("ti,ti->t", J[:, :, 2], f)) if nv == 3 else np.zeros(len(f))
+    torque_wrong = np.abs(np.einsum("ti,ti->t", J[:, :, 2], wrong)) if nv == 3 else np.zeros(len(f))
+    weight = props.mass * scene.g if scene.has("gravity") else 0.0
     floor = LOAD_SHARE * (weight if weight > 0.0 else load.max())
     counted = (load >= floor) & (load > 0.0)
-    relative = float(np.max(wrong[counted] / load[counted])) if np.any(counted) else 0.0
+    relative = float(np.max(wrong_sum[counted] / load[counted])) if np.any(counted) else 0.0
     turning = (torque >= TORQUE_SHARE * torque.max()) & (torque > 0.0)
     torque_relative = float(np.max(torque_wrong[turning] / torque[turning])) if np.any(turning) else 0.0
-    return MappingError(relative, torque_relative, float(min(ratios)), float(max(ratios)), a_hat, len(touching),
-                        residual / fmax if fmax > 0 else 0.0)
+    return MappingError(relative, torque_relative, float(ratios.min()), float(ratios.max()), float(a_hat[-1]),
+                        len(touching), residual / fmax if fmax > 0 else 0.0)

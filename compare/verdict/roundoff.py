@@ -30,8 +30,7 @@ import numpy as np
 from numba import njit
 
 from custom_sim import Scene, simulate
-from custom_sim.integrators import (NEWTON_TOL, explicit_euler_step, implicit_euler_step, rk4_step,
-                                    semi_implicit_euler_step)
+from custom_sim.integrators import NEWTON_TOL, euler_step, implicit_euler_step, rk4_step
 from custom_sim.model import build_model, initial_state
 from custom_sim.scene import Initial
 
@@ -123,7 +122,7 @@ def _add_rounding(z, noise, i, out):
 def _explicit_euler_rounded(model, points, z, h, n, noise, out):
     counters = np.zeros(4, dtype=np.int64)
     for i in range(n):
-        explicit_euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters)
+        euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters, False)
         _add_rounding(z, noise, i, out)
 
 
@@ -131,7 +130,7 @@ def _explicit_euler_rounded(model, points, z, h, n, noise, out):
 def _semi_implicit_euler_rounded(model, points, z, h, n, noise, out):
     counters = np.zeros(4, dtype=np.int64)
     for i in range(n):
-        semi_implicit_euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters)
+        euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters, True)
         _add_rounding(z, noise, i, out)
 
 
