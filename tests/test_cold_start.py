@@ -35,13 +35,13 @@ def test_warm_up_says_so_when_it_must_compile(monkeypatch):
 PARALLEL_WARM_UP = """
 import sys
 from custom_sim.compile_cache import needs_compiling, warm_up_in_parallel
-from custom_sim.integrators import integrate_explicit, integrate_implicit
+from custom_sim.integrators import first_unhealthy, integrate_explicit, integrate_implicit
 warm_up_in_parallel(sys.stdout, meanwhile=lambda: print("meanwhile"))
 print(needs_compiling(), len(integrate_explicit.signatures), len(integrate_implicit.signatures))
 # who compiled what: this process the explicit loop (a cache miss), the other the implicit one
-# (here a cache hit: loaded from what the other process wrote)
+# (here a cache hit: loaded from what the other process wrote); the blow-up check, this process
 print(sum(integrate_explicit.stats.cache_misses.values()), sum(integrate_implicit.stats.cache_misses.values()),
-      sum(integrate_implicit.stats.cache_hits.values()))
+      sum(integrate_implicit.stats.cache_hits.values()), sum(first_unhealthy.stats.cache_misses.values()))
 """
 
 
@@ -51,7 +51,7 @@ def test_the_parallel_warm_up_compiles_both_loops_into_an_empty_cache_and_says_s
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
     out = subprocess.run([sys.executable, "-c", PARALLEL_WARM_UP], cwd=ROOT, env=env, capture_output=True,
                          text=True, check=True).stdout.splitlines()
-    assert out == [COMPILING_MESSAGE, "meanwhile", "False 1 1", "1 0 1"], out
+    assert out == [COMPILING_MESSAGE, "meanwhile", "False 1 1", "1 0 1 1"], out
 
 
 def test_the_cache_stamp_follows_numba_cache_dir(tmp_path):
