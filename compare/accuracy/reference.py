@@ -130,12 +130,14 @@ class Equations:
         """Rolling resistance switches with sign(omega): a switch located as an event."""
         return self.rolling and self.rotates and self.roll_sharpness is None
 
-    def lever_arms(self, theta: float):
-        """World-frame arms r_i = R(theta) l_i (m) of the contact points."""
+    def lever_arms(self, theta: float, which=None):
+        """World-frame arms r_i = R(theta) l_i (m) of the contact points, or of those whose
+        indices `which` lists (the right-hand side and the events need only a few)."""
+        points = self.points if which is None else [self.points[i] for i in which]
         if self.turning:
             cs, sn = math.cos(theta), math.sin(theta)
-            return [(cs * lx - sn * ly, sn * lx + cs * ly) for lx, ly in self.points]
-        return list(self.points)
+            return [(cs * lx - sn * ly, sn * lx + cs * ly) for lx, ly in points]
+        return list(points)
 
 
 @dataclass(frozen=True)
@@ -185,15 +187,14 @@ def right_hand_side(eq: Equations, mode: Mode):
     def f(t, z):
         fx, fy, tau = 0.0, -m * eq.g, 0.0
         if idx:
-            arms = eq.lever_arms(z[2])
-            for i in idx:
-                d, vcx, vcy = point_kinematics(eq, z, arms[i])
+            for i, arm in zip(idx, eq.lever_arms(z[2], idx)):
+                d, vcx, vcy = point_kinematics(eq, z, arm)
                 if compression:
                     fn = k * d - c * vcy if active[i] else k * d
                 else:
                     fn = k * d - c * vcy if active[i] else 0.0
                 ft = -mu * fn * math.tanh(alpha * vcx) if eq.friction else 0.0
-                rx, ry = arms[i]
+                rx, ry = arm
                 fx += ft
                 fy += fn
                 tau += rx * fn - ry * ft
@@ -215,7 +216,7 @@ def mode_events(eq: Equations, mode: Mode):
         lift = TOUCH_BAND if mode.touching[i] else -TOUCH_BAND
 
         def depth(t, z, i=i, lift=lift):
-            return point_kinematics(eq, z, eq.lever_arms(z[2])[i])[0] + lift
+            return point_kinematics(eq, z, eq.lever_arms(z[2], (i,))[0])[0] + lift
         depth.terminal = True
         depth.direction = -1.0 if mode.touching[i] else 1.0
         events.append(depth)
@@ -226,7 +227,7 @@ def mode_events(eq: Equations, mode: Mode):
         shift = band if mode.active[i] else -band
 
         def kink(t, z, i=i, shift=shift):
-            d, _, vcy = point_kinematics(eq, z, eq.lever_arms(z[2])[i])
+            d, _, vcy = point_kinematics(eq, z, eq.lever_arms(z[2], (i,))[0])
             return kink_value(eq, d, vcy) + shift
         kink.terminal = True
         kink.direction = -1.0 if mode.active[i] else 1.0
