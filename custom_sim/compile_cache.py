@@ -72,8 +72,9 @@ def needs_compiling() -> bool:
 def warm_up(stream=None, part=None) -> float:
     """Compile (or load from the cache) everything a run executes: the stepping loops of the
     integrators named in `part` (default: all four), through a 2-step run of a small scene with
-    each, and the blow-up check of a recorded trajectory (unless `part` is implicit only). Prints COMPILING_MESSAGE to
-    `stream` (stderr) when it has to compile. Returns the seconds it took."""
+    each, and the blow-up check of a recorded trajectory (unless `part` is implicit only).
+    Prints COMPILING_MESSAGE to `stream` (stderr) when it has to compile. Returns the seconds
+    it took."""
     import dataclasses
 
     from .integrators import INTEGRATORS, first_unhealthy

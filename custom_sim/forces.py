@@ -163,11 +163,11 @@ def acceleration_jacobian(model, points, z, jac):
 
 @njit(cache=True)
 def loaded_acceleration_jacobian(model, points, z, jac, held, share_held):
-    """acceleration_jacobian() of the accelerations with held_share() applied: point `held` (-1: none) acts whatever
-    its depth, its terms scaled by share_held. Every term of the held point carries the factor
-    share once (share = 1 multiplies exactly: with held = -1 this is the plain Jacobian to the
-    bit). One compiled body for both: a copy specialised to held = -1 was two seconds of a
-    first run's compile, for a few compares per Newton iteration."""
+    """acceleration_jacobian() of the accelerations with held_share() applied: point `held`
+    (-1: none) acts whatever its depth, its terms scaled by share_held. Every term of the held
+    point carries the factor share once (share = 1 multiplies exactly: with held = -1 this is
+    the plain Jacobian to the bit). One compiled body for both: a copy specialised to held = -1
+    was two seconds of a first run's compile, for a few compares per Newton iteration."""
     for r in range(3):
         for j in range(6):
             jac[r, j] = 0.0
