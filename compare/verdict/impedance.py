@@ -123,9 +123,9 @@ def _read_error(scene: Scene, model, data, rows: np.ndarray, states: np.ndarray,
     J, minv_jt = np.zeros((T, width, nv)), np.zeros((T, width, nv))
     f, wanted, a0 = np.zeros((T, width)), np.zeros((T, width)), np.zeros((T, width))
     real = np.zeros((T, width), dtype=bool)
-    for t, (jac, mj, force, want, acc, _) in enumerate(read):
+    for t, (jac, jm, force, want, acc, _) in enumerate(read):
         m = len(force)
-        J[t, :m], minv_jt[t, :m], f[t, :m], wanted[t, :m], a0[t, :m], real[t, :m] = jac, mj, force, want, acc, True
+        J[t, :m], minv_jt[t, :m], f[t, :m], wanted[t, :m], a0[t, :m], real[t, :m] = jac, jm, force, want, acc, True
     a_hat = np.array([r[5] for r in read])
     A = J @ minv_jt.transpose(0, 2, 1)                     # J M^-1 J^T, (steps, rows, rows)
     scaled = A / a_hat[:, None, None] - np.eye(A.shape[1])
