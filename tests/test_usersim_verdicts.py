@@ -38,6 +38,22 @@ def test_the_round_off_envelope_is_far_below_the_motion(name):
     assert envelope.position < 1e-5 * max(abs(scene.initial.position[1]), 0.1), envelope
 
 
+@pytest.mark.parametrize("integrator", ["explicit_euler", "semi_implicit_euler", "implicit_euler", "rk4"])
+def test_the_envelopes_kernel_with_no_rounding_is_custom_sims_run(integrator):
+    """The envelope perturbs custom_sim's own steps: with zero noise its kernel must take the
+    very steps of simulate() with that integrator, to the bit (a kernel stepping another method
+    would size the envelope of the wrong one)."""
+    from custom_sim import simulate
+    from custom_sim.model import build_model, initial_state
+    from compare.verdict.roundoff import _ROUNDED
+
+    scene = dataclasses.replace(load("box_drop"), integrator=integrator, duration=0.2)
+    model, points = build_model(scene)
+    out = np.empty((scene.steps, 6))
+    _ROUNDED[integrator](model, points, initial_state(scene), scene.dt, scene.steps, np.zeros((scene.steps, 9)), out)
+    assert np.array_equal(out, simulate(scene).states()[1:])
+
+
 def test_a_model_difference_of_one_part_in_1e8_fails():
     """The resolution the check has: g off by 1e-8 (relative) in free flight moves a drop by
     g t^2 / 2 * 1e-8 = 5e-9 m before touchdown, above point_drop's envelope of 3e-10 m."""

@@ -61,7 +61,7 @@ def _clear_stale_kernel() -> None:
     here = Path(__file__).resolve()
     sources = sorted(Path(custom_sim.__file__).resolve().parent.glob("*.py")) + [here]
     try:  # numba's folder for this file: __pycache__ beside it, or under NUMBA_CACHE_DIR
-        cache = Path(_semi_implicit_euler_rounded._cache._cache_path)
+        cache = Path(_euler_rounded._cache._cache_path)
     except Exception:  # another numba layout: its default, in-tree
         cache = here.parent / "__pycache__"
     clear_stale(cache, sources, "roundoff_numba_sources.sha256", "roundoff.*")
@@ -116,21 +116,16 @@ def _add_rounding(z, noise, i, out):
         out[i, j] = z[j]
 
 
-# One compiled kernel per integrator (a scene compiles only the step it uses): n steps of
-# custom_sim's own step function from z, each followed by _add_rounding.
+# One compiled kernel per step body (a scene compiles only the one it uses; the two Euler
+# methods share theirs): n steps of custom_sim's own step function from z, each followed by
+# _add_rounding.
 @njit(cache=True)
-def _explicit_euler_rounded(model, points, z, h, n, noise, out):
+def _euler_rounded(model, points, z, h, n, noise, out, semi):
+    """Explicit Euler (semi False) or semi-implicit Euler (semi True): custom_sim's one step
+    body for both."""
     counters = np.zeros(4, dtype=np.int64)
     for i in range(n):
-        euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters, False)
-        _add_rounding(z, noise, i, out)
-
-
-@njit(cache=True)
-def _semi_implicit_euler_rounded(model, points, z, h, n, noise, out):
-    counters = np.zeros(4, dtype=np.int64)
-    for i in range(n):
-        euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters, True)
+        euler_step(model, points, z, h, 0.0, 0.0, 0.0, counters, semi)
         _add_rounding(z, noise, i, out)
 
 
@@ -152,7 +147,8 @@ def _rk4_rounded(model, points, z, h, n, noise, out):
         _add_rounding(z, noise, i, out)
 
 
-_ROUNDED = {"explicit_euler": _explicit_euler_rounded, "semi_implicit_euler": _semi_implicit_euler_rounded,
+_ROUNDED = {"explicit_euler": lambda *run: _euler_rounded(*run, False),
+            "semi_implicit_euler": lambda *run: _euler_rounded(*run, True),
             "implicit_euler": _implicit_euler_rounded, "rk4": _rk4_rounded}
 _clear_stale_kernel()   # before any kernel loads from the cache
 
