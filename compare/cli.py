@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from pathlib import Path
 
@@ -30,6 +31,7 @@ COMMANDS = {
 }
 
 EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2
+EXIT_INTERRUPTED = 130   # Ctrl-C, as a shell reports a process stopped by SIGINT
 
 
 class BadInput(ValueError):
@@ -37,10 +39,30 @@ class BadInput(ValueError):
 
 
 def output_folder(out: str) -> Path:
-    """The --out folder: a folder or a path still free, never an existing file."""
+    """The --out folder: a folder or a path still free, never an existing file, nor a path
+    under one (`somefile.txt/sub`), checked on every existing ancestor before anything is
+    written; the nearest existing one must be a folder this process can write into."""
     path = Path(out)
     if path.exists() and not path.is_dir():
         raise BadInput(f"{path}: --out: is a file (expected a folder)")
+    # Path.exists() is False under a file (NotADirectoryError), so walk up to what exists
+    for ancestor in [path, *path.parents]:
+        try:
+            ancestor.stat()
+        except FileNotFoundError:
+            continue
+        except NotADirectoryError:   # a file further up: keep walking to find it
+            continue
+        except OSError as exc:
+            raise BadInput(f"{path}: --out: {ancestor} cannot be read ({exc.strerror or exc}); "
+                           "expected a folder or a path that can be created") from None
+        if not ancestor.is_dir():
+            raise BadInput(f"{path}: --out: {ancestor} is a file, so no folder can be made under it "
+                           "(expected a folder or a path that can be created)")
+        if not os.access(ancestor, os.W_OK | os.X_OK):
+            raise BadInput(f"{path}: --out: {ancestor} is a folder this user cannot write into "
+                           "(expected a writable folder or a path that can be created)")
+        break
     return path
 
 
@@ -68,6 +90,9 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args._main(args)
+    except KeyboardInterrupt:
+        print(f"interrupted: python -m compare {args.command} stopped (Ctrl-C)", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except (SceneError, BadInput) as exc:
         details = getattr(exc, "details", "")  # a user's simulator raised: its own frames, once
         if details:

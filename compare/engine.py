@@ -30,6 +30,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable
 
+from .report.atomic import finite_json, write_text_atomically
+
 # How long to wait for an existing scheduler before giving up (s).
 CONNECT_TIMEOUT = 10.0
 
@@ -63,9 +65,7 @@ class Store:
 
     def save(self, key: str, result) -> None:
         self.folder.mkdir(parents=True, exist_ok=True)
-        tmp = self.path(key).with_suffix(".tmp")
-        tmp.write_text(json.dumps(result))
-        os.replace(tmp, self.path(key))
+        write_text_atomically(self.path(key), finite_json(result))
 
     def keys(self) -> set[str]:
         return {p.stem for p in self.folder.glob("*.json")} if self.folder.is_dir() else set()

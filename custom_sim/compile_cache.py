@@ -111,8 +111,7 @@ def warm_up_in_parallel(stream=None, meanwhile=None) -> float:
     if needs_compiling():
         print(COMPILING_MESSAGE, file=stream or sys.stderr, flush=True)
         implicit = [name for name, method in INTEGRATORS.items() if method.implicit]
-        other = multiprocessing.get_context("fork").Process(target=warm_up, args=(io.StringIO(), implicit),
-                                                            daemon=True)
+        other = multiprocessing.get_context("fork").Process(target=_warm_up_child, args=(implicit,), daemon=True)
         other.start()
         warm_up(io.StringIO(), [name for name in INTEGRATORS if name not in implicit])
     if meanwhile is not None:
@@ -121,6 +120,15 @@ def warm_up_in_parallel(stream=None, meanwhile=None) -> float:
         other.join()
     warm_up(stream)   # loads what is cached (compiles what the other process did not leave there)
     return time.perf_counter() - start
+
+
+def _warm_up_child(names) -> None:
+    """The forked half of the warm-up: Ctrl-C is the parent's to answer (a daemon, it ends with it)."""
+    import io
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    warm_up(io.StringIO(), names)
 
 
 def _props(scene):

@@ -137,11 +137,15 @@ def load_scene(path: str | Path) -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(file, "", f"is not valid TOML ({exc})") from None
-    return parse_scene(data, file=file, default_name=path.stem)
+    return parse_scene(data, file=file, default_name=path.stem, check_initial_depth=True)
 
 
-def parse_scene(data: dict[str, Any], file: str = "<memory>", default_name: str = "scene") -> Scene:
-    """Validate a scene given as a dict (the parsed TOML)."""
+def parse_scene(data: dict[str, Any], file: str = "<memory>", default_name: str = "scene",
+                check_initial_depth: bool = False) -> Scene:
+    """Validate a scene given as a dict (the parsed TOML). check_initial_depth: also refuse an
+    initial state with a contact point deeper below the ground than allowed_initial_depth (a
+    scene file's start, as load_scene does; a scene built in code may start a spring pressed in
+    on purpose, as the tests of one implicit Euler step and custom_sim's compile warm-up do)."""
     v = _Validator(file)
     top = v.table(data, "", {
         "name", "description", "duration", "dt", "integrator", "effects", "g",
@@ -161,6 +165,9 @@ def parse_scene(data: dict[str, Any], file: str = "<memory>", default_name: str 
                                         {"position", "velocity", "angle", "angular_velocity"}, required=True))
     if body.shape == "point" and (initial.angle != 0.0 or initial.angular_velocity != 0.0):
         raise SceneError(file, "initial.angle", "a point mass does not rotate (expected angle and angular_velocity 0)")
+    if check_initial_depth and "contact" in effects:
+        g_eff = v.number(top, "g", 9.81, minimum=0.0) if "gravity" in effects else 0.0
+        _check_initial_depth(file, body, initial, g_eff, contact.k)
     mj = v.table(top.get("mujoco", {}), "mujoco", {"solref", "integrator", "cone", "dt"})
     mujoco = MujocoSettings(
         solref=v.choice(mj, "solref", SOLREF_MAPPINGS, "penalty", "mujoco."),
@@ -191,6 +198,72 @@ def parse_scene(data: dict[str, Any], file: str = "<memory>", default_name: str 
         tolerance=tolerance,
         source=file,
     )
+
+
+# How far below the ground a scene may start a contact point. A body released from rest with a
+# point pressed in by d, that point alone carrying it on its spring (the most any point of a
+# resting body carries), oscillates between d and 2 m g / k - d: a start up to twice the
+# resting compression m g / k keeps the point on the ground, like a body set down; deeper, the
+# spring throws the body up (from 2 m g / k - d above rest), a start no resting body has, and
+# the force k d it starts with is what a landing gives, not a resting load: a body placed
+# partly through the floor is reported as chatter or a blow-up, not as the mistake it is.
+# Without gravity nothing rests on the spring: only the round-off of placing a body on the
+# ground (a millionth of its size, the farthest contact point from its centre of mass: a
+# position written with six significant digits, or a turned box's cos(pi/2) = 6e-17) passes.
+# Every built-in and stress scene starts at most at 1.01 m g / k (resting_60s). Checked for
+# scene files (load_scene); a scene built in code (parse_scene) may ask for it, and the tests
+# that start a spring pressed in on purpose (one implicit Euler step on a spring) do not.
+INITIAL_DEPTH_REST_FACTOR = 2.0
+INITIAL_DEPTH_PLACEMENT = 1e-6
+
+
+def allowed_initial_depth(body: Body, g: float, k: float) -> float:
+    """The deepest a contact point may start below the ground (m): the larger of
+    INITIAL_DEPTH_REST_FACTOR m g / k (g: 0 without gravity) and INITIAL_DEPTH_PLACEMENT times
+    the body's size."""
+    from .bodies import mass_properties
+
+    size = _body_size(mass_properties(body))
+    return max(INITIAL_DEPTH_REST_FACTOR * body.mass * g / k, INITIAL_DEPTH_PLACEMENT * size)
+
+
+def _body_size(props) -> float:
+    """The farthest contact point from the centre of mass (m); 0 for a point touching at y."""
+    return max((math.hypot(float(px), float(py)) for px, py in props.points), default=0.0)
+
+
+def _check_initial_depth(file: str, body: Body, initial: Initial, g: float, k: float) -> None:
+    """SceneError when the initial state puts a contact point deeper below the ground (y = 0)
+    than allowed_initial_depth: the field is initial.angle when the angle alone does it (the
+    same position at angle 0 would be allowed), else initial.position."""
+    from .bodies import contact_points_world, mass_properties
+
+    props = mass_properties(body)
+    allowed = allowed_initial_depth(body, g, k)
+    x, y = initial.position
+
+    def lowest(angle: float) -> tuple[int, float, float]:
+        px, py = contact_points_world(props, x, y, angle)
+        i = int(py.argmin())
+        return i, float(px[i]), float(py[i])
+
+    i, px, py = lowest(initial.angle)
+    depth = -py
+    if depth <= allowed:
+        return
+    field = "initial.position"
+    if initial.angle != 0.0 and -lowest(0.0)[2] <= allowed and props.points_rotate:
+        field = "initial.angle"
+    lx, ly = props.points[i]
+    rest = body.mass * g / k
+    turned = f" turned by initial.angle = {initial.angle:g} rad" if initial.angle != 0.0 else ""
+    raise SceneError(file, field,
+                     f"puts contact point {i} (body frame ({lx:.4g}, {ly:.4g}) m{turned}) at y = {py:.4g} m, "
+                     f"{depth:.3g} m below the ground (expected a start above the ground or pressed in by at "
+                     f"most {allowed:.3g} m: the larger of {INITIAL_DEPTH_REST_FACTOR:g} x the resting "
+                     f"compression m g / k = {rest:.3g} m (a body set down at rest stays on the ground) and "
+                     f"{INITIAL_DEPTH_PLACEMENT:g} of the body's size {_body_size(props):.3g} m (round-off); "
+                     f"raise initial.position's y by at least {depth - allowed:.3g} m)")
 
 
 _SHAPE_FIELDS = {

@@ -418,11 +418,13 @@ def within_limits(scene: Scene, integrator: str | None = None) -> bool:
 
 
 def warning(scene: Scene, integrator: str | None = None) -> str | None:
-    """One line for `run` and the report when dt is outside a theory limit, else None."""
+    """One line for `run` and the report when dt is outside a theory limit, else None. It does
+    not start with "warning:": the caller that prints it says that (run prints "warning: " +
+    this line; metrics.json's `warnings` holds the bare sentence)."""
     bad = violated(scene, integrator)
     if not bad:
         return None
     method = integrator or scene.integrator
     parts = ", ".join(f"{e} needs dt < {h:.3g} s" for e, h in sorted(bad.items(), key=lambda kv: kv[1]))
-    return (f"warning: {scene.name}: dt = {scene.dt:g} s is outside the stability limit of {method} "
+    return (f"{scene.name}: dt = {scene.dt:g} s is outside the stability limit of {method} "
             f"({parts}; see docs/stability.md): expect chatter or a blow-up")

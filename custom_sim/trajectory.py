@@ -3,6 +3,7 @@ state (t = 0) and the state after each step, columns t,x,y,theta,vx,vy,omega,ene
 from __future__ import annotations
 
 import csv
+import io
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -13,6 +14,10 @@ CSV_COLUMNS = ("t", "x", "y", "theta", "vx", "vy", "omega", "energy")
 REQUIRED_COLUMNS = CSV_COLUMNS[:7]   # energy (and any other column) is optional when reading
 CSV_FORMAT = "%.10g"                 # 10 significant digits: a relative rounding of at most 5e-10
 CSV_RELATIVE_ROUNDING = 5e-10        # what a write-then-read round trip may change, relative
+_UTF8_BOM = b"\xef\xbb\xbf"
+# other encodings' byte-order marks (UTF-32 before UTF-16: FF FE 00 00 starts with FF FE)
+_OTHER_BOMS = ((b"\xff\xfe\x00\x00", "UTF-32"), (b"\x00\x00\xfe\xff", "UTF-32"),
+               (b"\xff\xfe", "UTF-16"), (b"\xfe\xff", "UTF-16"))
 
 
 class CsvError(ValueError):
@@ -72,21 +77,46 @@ def write_csv(traj: Trajectory, path: str | Path) -> None:
     # one format operation for the whole table (formatted in C): a loop over rows took 10 % of a run
     line = ",".join([CSV_FORMAT] * rows.shape[1]) + "\n"
     text = ",".join(CSV_COLUMNS) + "\n" + (line * rows.shape[0]) % tuple(rows.ravel().tolist())
-    Path(path).write_text(text)
+    Path(path).write_text(text, encoding="utf-8")
 
 
-def read_csv(path: str | Path) -> dict[str, np.ndarray]:
+def read_csv_text(path: str | Path) -> str:
+    """The text of a CSV file: UTF-8, with or without a byte-order mark (Excel and Windows
+    tools write one). Raises CsvError naming the file for a file that cannot be read, or that
+    is not UTF-8 text (UTF-16 or UTF-32, with or without its mark, or any other encoding)."""
+    path = Path(path)
+    try:
+        raw = path.read_bytes()
+    except OSError as err:
+        raise CsvError(path, "file", f"cannot be read ({err.strerror or err})") from None
+    for bom, name in _OTHER_BOMS:
+        if raw.startswith(bom):
+            raise CsvError(path, "file", f"is {name} text (its byte-order mark says so); expected UTF-8 text "
+                                         "(save or write it as UTF-8)")
+    if raw.startswith(_UTF8_BOM):
+        raw = raw[len(_UTF8_BOM):]
+    if b"\x00" in raw:   # UTF-16 without its mark: every ASCII character followed or led by a NUL byte
+        at = raw.index(b"\x00")
+        raise CsvError(path, "file", f"has a NUL byte at byte {at} (UTF-16 text or a binary file?); "
+                                     "expected UTF-8 text")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise CsvError(path, "file", f"is not UTF-8 text (byte {err.start}: {raw[err.start:err.start + 1]!r} "
+                                     f"cannot be decoded); expected UTF-8 text") from None
+
+
+def read_csv(path: str | Path, text: str | None = None) -> dict[str, np.ndarray]:
     """Columns of a trajectory CSV by header name: {name: array (rows,)}.
 
     t,x,y,theta,vx,vy,omega are required, in any order; energy and any other named column are
     returned when present. Every cell must be a finite number. Raises CsvError (a ValueError)
-    naming the file, the row (1 = the header) or column, and what was expected.
+    naming the file, the row (1 = the header) or column, and what was expected. The file is
+    UTF-8 text, a byte-order mark allowed (read_csv_text); text: its text when already read.
     """
     path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as err:
-        raise CsvError(path, "file", f"cannot be read ({err.strerror or err})") from None
+    if text is None:
+        text = read_csv_text(path)
     lines = [(n, line) for n, line in enumerate(text.splitlines(), start=1) if line.strip()]
     if not lines:
         raise CsvError(path, "file", "is empty; expected a header row " + ",".join(CSV_COLUMNS))
@@ -107,7 +137,7 @@ def read_csv(path: str | Path) -> dict[str, np.ndarray]:
     if len(lines) == 1:
         raise CsvError(path, "file", "has a header but no rows; expected at least the t = 0 row")
     try:  # fast path: numpy parses the body; any fault is then located row by row below
-        data = np.loadtxt(path, delimiter=",", skiprows=header_row, ndmin=2)
+        data = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=header_row, ndmin=2)
         ok = data.shape == (len(lines) - 1, len(header)) and bool(np.all(np.isfinite(data)))
     except ValueError:
         ok = False

@@ -138,6 +138,14 @@ CASES = {
     "NaN part size": (edit(BOX, COMPOUND.replace("size = [0.1, 0.1]", "size = [nan, 0.1]")),
                       "body.parts[0].size", "expected a finite number"),
     "a number beyond float": (edit("mass = 1.0", "mass = 1e400"), "body.mass", "expected a finite number"),
+    # the box's lower corners 5 cm and 15 cm below the ground (it would be reported as chatter)
+    "starting below the ground": (edit("position = [0.0, 0.5]", "position = [0.0, 0.0]"), "initial.position",
+                                  "below the ground (expected a start above the ground or pressed in by at most"),
+    "starting far below the ground": (edit("position = [0.0, 0.5]", "position = [0.0, -0.1]"), "initial.position",
+                                      "raise initial.position's y by at least"),
+    # at angle 0 this box would clear the ground by 1 cm: the angle puts a corner 5 cm into it
+    "turned into the ground": (edit("velocity = [0.0, 0.0]", "angle = 1.0").replace("[0.0, 0.5]", "[0.0, 0.06]"),
+                               "initial.angle", "below the ground"),
 }
 
 # Loader checks beyond the schema's types: a step count that cannot fit in memory, a MuJoCo
@@ -271,3 +279,46 @@ def test_run_in_a_fresh_process(tmp_path, name):
     assert_clear(proc.stderr, str(path), field, expected)
     assert proc.stdout == ""
     assert_untouched(out, False)
+
+
+def test_a_resting_start_loads_and_a_point_starting_inside_the_ground_does_not(tmp_path):
+    """The allowed depth is 2 m g / k: a point released from rest there stays on the ground."""
+    path = tmp_path / "rest.toml"
+    # box 0.2 x 0.1 m, 1 kg, k 1e4: m g / k = 0.98 mm, up to 1.96 mm allowed
+    path.write_text(edit("position = [0.0, 0.5]", "position = [0.0, 0.0485]"))   # 1.5 mm in
+    assert load_scene(path).initial.position == (0.0, 0.0485)
+    path.write_text(edit("position = [0.0, 0.5]", "position = [0.0, 0.048]"))    # 2 mm in
+    with pytest.raises(SceneError, match=r"initial.position: .*0.002 m below the ground .* at most 0.00196 m"):
+        load_scene(path)
+    # a soft contact: the resting compression itself is deep (k 100 N/m: m g / k = 9.8 cm)
+    path.write_text(edit("position = [0.0, 0.5]", "position = [0.0, -0.1]").replace("k = 1e4", "k = 100"))
+    assert load_scene(path).initial.position == (0.0, -0.1)
+    # no contact effect: no ground to start below
+    path.write_text(edit("position = [0.0, 0.5]", "position = [0.0, -1.0]")
+                    .replace('["gravity", "contact", "friction"]', '["gravity"]'))
+    assert load_scene(path).initial.position == (0.0, -1.0)
+    # no gravity: nothing rests on the spring, only placement round-off passes (a box on its
+    # side at angle pi/2: cos(pi/2) = 6e-17)
+    side = edit("position = [0.0, 0.5]", "position = [0.0, 0.1]\nangle = 1.5707963267948966")
+    path.write_text(side.replace('["gravity", "contact", "friction"]', '["contact", "friction"]'))
+    assert load_scene(path).initial.angle == pytest.approx(1.5707963267948966)
+    path.write_text(side.replace('["gravity", "contact", "friction"]', '["contact", "friction"]')
+                    .replace("[0.0, 0.1]", "[0.0, 0.0999]"))
+    with pytest.raises(SceneError, match="initial.angle: .*0.0001 m below the ground"):   # flat, it would clear it
+        load_scene(path)
+
+
+@pytest.mark.parametrize("under", ["a_file.txt/sub", "a_file.txt/sub/deeper", "a_file.txt"])
+def test_run_refuses_an_out_folder_under_a_file(tmp_path, capsys, under):
+    """--out under a file was a NotADirectoryError traceback: now exit 2 naming the path, nothing written."""
+    good = tmp_path / "good.toml"
+    good.write_text(VALID)
+    (tmp_path / "a_file.txt").write_text("not a folder\n")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    out = tmp_path / under
+    status, err = run_cli(capsys, good, "--out", out)
+    assert status == 2, err
+    assert err.startswith("error: ") and err.count("\n") == 1 and str(out) in err and "a_file.txt" in err, err
+    assert "expected" in err and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+    assert (tmp_path / "a_file.txt").read_text() == "not a folder\n"

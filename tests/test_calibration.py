@@ -166,3 +166,66 @@ def test_calibration_files(tmp_path):
         assert model.pair_solref[0] == pytest.approx(s["settings"]["solref"], rel=5e-6)
     assert data["fit"]["readback_ok"] and (tmp_path / "objective.png").is_file()
     assert "Objective against iterations" in index.read_text()
+
+
+# A fit must not lose to the mapping it starts from on a scene it was fitted to.
+
+def _fitted_pair():
+    """box_slide (the penalty mapping follows it to 1e-5 m) and point_drop's first bounce
+    (0.08 m off: the compression law MuJoCo cannot do), cut short."""
+    return [dataclasses.replace(load("box_slide"), duration=0.3), dataclasses.replace(load("point_drop"), duration=0.45)]
+
+
+def test_each_scene_weighs_by_its_own_error_at_the_start():
+    """Unweighted, point_drop's 0.08 m outweighs box_slide's 1e-5 m ten-million-fold in the
+    objective and the fit spends box_slide freely; weighted, each scene starts at 1."""
+    targets = [prepare(s, "penalty") for s in _fitted_pair()]
+    result = fit(targets, parse_fit(None), max_iter=1)
+    assert result.objective[0] == pytest.approx(0.5 * len(targets), rel=1e-9)
+    assert result.scales["box_slide"] < 1e-4 < result.scales["point_drop"], result.scales
+
+
+def test_calibrate_is_never_worse_than_the_penalty_mapping_on_a_fitted_scene():
+    """Before the weighting, this fit made box_slide thirteen times worse (1.2e-5 m to 1.5e-4 m)
+    to fit point_drop; now both improve, and the fit is kept."""
+    from compare.calibration.calibration import calibrate
+
+    cal = calibrate(_fitted_pair(), [], parse_fit(None), "penalty", max_iter=5, nthread=2)
+    for s in cal.scenes:
+        e = s.errors
+        for key in ("position_error_max", "angle_error_max"):
+            assert e["calibrated"][key] <= e["penalty"][key], (s.scene.name, key, e["calibrated"][key], e["penalty"][key])
+    assert cal.accepted, cal.gave_up
+    drop = next(s for s in cal.scenes if s.scene.name == "point_drop").errors
+    assert drop["calibrated"]["position_error_max"] < 0.5 * drop["penalty"]["position_error_max"]
+
+
+def test_a_fit_worse_on_a_fitted_scene_is_rejected_and_says_so(monkeypatch, tmp_path):
+    """A fit that lands on a stiffness ten times the mapping's makes box_slide worse: the
+    calibrated twin keeps the penalty mapping's values (the same run to the bit), and the status,
+    calibration.json and index.md name the scene the fit gave up."""
+    import json
+
+    import compare.calibration.calibration as calibration
+    from compare.calibration.report import write_calibration
+
+    real = calibration.fit
+
+    def stiff(*args, **kw):
+        result = real(*args, **kw)
+        return dataclasses.replace(result, values=np.array([10.0, 1.0, 1.0, 1.0]))
+
+    monkeypatch.setattr(calibration, "fit", stiff)
+    scene = dataclasses.replace(load("box_slide"), duration=0.3)
+    cal = calibration.calibrate([scene], [], parse_fit(None), "penalty", max_iter=1, nthread=1)
+    assert not cal.accepted and [g["scene"] for g in cal.gave_up] == ["box_slide"]
+    (s,) = cal.scenes
+    assert s.errors["calibrated"] == s.errors["penalty"]
+    assert np.array_equal(s.paths["calibrated"], s.paths["penalty"])
+    assert s.settings == cal.mapping_settings["box_slide"]["penalty"]
+    assert cal.fitted_errors["box_slide"]["position_error_max"] > s.errors["penalty"]["position_error_max"]
+    index = write_calibration(cal, tmp_path).read_text()
+    data = json.loads((tmp_path / "calibration.json").read_text())
+    assert "fit rejected" in data["status"] and data["accepted"] is False
+    assert data["parameters"]["solref.stiffness"] == 1.0 and data["fitted_parameters"]["solref.stiffness"] == 10.0
+    assert "The fit gave up box_slide" in index and "fit rejected" in index

@@ -11,9 +11,11 @@ import mujoco
 import numpy as np
 import pytest
 
-from compare.scenarios import load
+import compare.verdict.contact_check as contact_check
+from compare.scenarios import builtin_names, load
 from compare.verdict.contact_check import check_contact, contact_scene
-from compare.verdict.impedance import mapping_error
+from compare.verdict.identical_check import check_identical
+from compare.verdict.impedance import mapping_error, native_run
 from custom_sim import mass_properties
 from custom_sim.chatter import WATCH_COLUMNS
 from custom_sim.integrators import INTEGRATORS, integrate
@@ -129,3 +131,60 @@ def test_states_that_blow_up_fail_with_the_step():
     row = check_contact(scene, states)
     assert row["pass"] is False and "step 500" in row["reason"]
     assert row["first_exceeding_time"] == pytest.approx(500 * scene.dt)
+
+
+# The rule every judged tolerance obeys, written here on its own (not read from the checks): a
+# check whose cap is lifted (MOTION_SHARE = 10) judges with a tolerance above it, and fails here.
+A_TENTH = 0.1
+
+
+def rule_breaches(row: dict, reference: np.ndarray, dt: float) -> list[str]:
+    """The judged tolerances of `row` above a tenth of the motion over its judged window
+    [0, judged_until], the motion measured here from `reference` (states every dt): the range of
+    the COM path (m) and of the angle (rad)."""
+    if row["pass"] is None:
+        return []
+    until = row.get("judged_until")
+    assert until is not None, f"{row['name']}: a judged row names its window"
+    window = reference[np.arange(len(reference)) * dt <= until + 1e-9 * dt]
+    spans = window.max(axis=0) - window.min(axis=0)
+    moved, turned = float(np.hypot(spans[0], spans[1])), float(spans[2])
+    out = []
+    if row["tolerance_position"] is None or row["tolerance_position"] > A_TENTH * moved:
+        out.append(f"{row['name']}: position tolerance {row['tolerance_position']} m, motion {moved:.4g} m")
+    if row["tolerance_angle"] is not None and row["tolerance_angle"] > A_TENTH * turned:
+        out.append(f"{row['name']}: angle tolerance {row['tolerance_angle']:.4g} rad, motion {turned:.4g} rad")
+    return out
+
+
+def contact_breaches(scene) -> list[str]:
+    row = check_contact(scene)
+    assert row["pass"] is not None, row["reason"]
+    native, twin, _ = native_run(contact_scene(scene))
+    return rule_breaches(row, native, twin.dt)
+
+
+@pytest.mark.parametrize("name", builtin_names())
+def test_every_judged_contact_tolerance_is_within_a_tenth_of_the_motion(name):
+    """Position and angle, each against the motion of MuJoCo's run (friction off) over the
+    judged window. box_drop's angle: 0.253 rad judged against a tumble of 2.53 rad."""
+    assert contact_breaches(load(name)) == []
+
+
+def test_a_lifted_cap_is_caught(monkeypatch):
+    """With the contact check's share of the motion lifted to 10, box_drop is judged over its
+    whole run with a tolerance of a fifth of its motion: the rule above sees it."""
+    monkeypatch.setattr(contact_check, "MOTION_SHARE", 10.0)
+    assert contact_breaches(load("box_drop"))
+
+
+@pytest.mark.parametrize("name", builtin_names())
+def test_every_judged_identical_tolerance_is_within_a_tenth_of_the_motion(name):
+    """check identical on custom_sim's own states (what a faithful simulator gives)."""
+    from custom_sim import simulate
+
+    scene = load(name)
+    states = simulate(scene).states()
+    row = check_identical(scene, states, scene.integrator, scene.dt, None)
+    assert row["pass"] is True, row["reason"]
+    assert rule_breaches(row, states, scene.dt) == []

@@ -8,12 +8,15 @@ import json
 import numpy as np
 import pytest
 
+import compare.verdict.dynamics_check as dynamics_check
 import custom_sim.bodies
-from compare.scenarios import load
-from compare.verdict.dynamics_check import (HORIZON_POSITION, ROUNDOFF_FLOOR_POSITION,
+from compare.scenarios import builtin_names, load
+from compare.verdict.dynamics_check import (HORIZON_POSITION, ROUNDOFF_FLOOR_ANGLE, ROUNDOFF_FLOOR_POSITION,
                                             check_dynamics)
 from custom_sim import Stepper, simulate
 from mujoco_models import simulate_dynamics
+from tests.conftest import make_scene
+from tests.test_contact_check import rule_breaches
 
 SIMULATE = importlib.import_module("custom_sim.simulate")   # the module (the package exports the function)
 
@@ -119,3 +122,44 @@ def test_a_mistake_in_custom_sim_fails_the_check_and_leaves_the_twin_alone(monke
         f"{row['tolerance_position']:.3g} m")
     assert np.array_equal(simulate_dynamics(scene).states(), twin_before), \
         "the twin moved with a mistake made in custom_sim"
+
+
+# No judged tolerance above a tenth of the motion it judges (rule_breaches states the rule on
+# its own, against the twin's motion over the judged window).
+
+def twin_breaches(scene, integrator="semi_implicit_euler"):
+    run = dataclasses.replace(scene, integrator=integrator)
+    row = check_dynamics(run, simulate(run).states(), integrator, run.dt)
+    twin = simulate_dynamics(run, dynamics_check.MUJOCO_INTEGRATOR[integrator], run.dt).states()
+    return row, rule_breaches(row, twin, run.dt)
+
+
+@pytest.mark.parametrize("integrator", ["semi_implicit_euler", "rk4"])
+@pytest.mark.parametrize("name", builtin_names())
+def test_every_judged_dynamics_tolerance_is_within_a_tenth_of_the_motion(name, integrator):
+    """A point mass and a ball bouncing straight never turn: their angle is shown, not judged
+    (a round-off tolerance of 1e-9 rad on an angle that stays 0 would exceed a tenth of it)."""
+    row, breaches = twin_breaches(load(name), integrator)
+    assert row["pass"] is True, row["reason"]
+    assert breaches == []
+
+
+def barely_turning():
+    """A box in flight turning at 1e-9 rad/s: 2e-10 rad in 0.2 s, below ten times the angle's
+    round-off tolerance (1e-9 rad); its position falls by 0.2 m."""
+    return make_scene({"shape": "box", "mass": 1.0, "size": [0.2, 0.1]},
+                      {"position": [0.0, 1.0], "angular_velocity": 1e-9}, effects=["gravity"], duration=0.2)
+
+
+def test_an_angle_that_barely_turns_is_shown_not_judged():
+    row, breaches = twin_breaches(barely_turning())
+    assert breaches == [] and row["pass"] is True
+    assert row["tolerance_angle"] is None and row["tolerance_angle_shown"] == ROUNDOFF_FLOOR_ANGLE
+    assert row["motion_angle"] == pytest.approx(2e-10, rel=1e-3)
+    assert "the angle is shown, not judged" in row["reason"]
+
+
+def test_a_lifted_cap_is_caught(monkeypatch):
+    monkeypatch.setattr(dynamics_check, "MOTION_SHARE", 10.0)
+    row, breaches = twin_breaches(barely_turning())
+    assert row["tolerance_angle"] == ROUNDOFF_FLOOR_ANGLE and breaches

@@ -124,7 +124,11 @@ def test_diagnose_step_from_moments_names_the_mistake():
     scene = load("box_drop")
     moments = pick_moments(scene, simulate(scene).states())
     names = [n for n, _ in moments]
-    assert {"in flight", "touchdown", "sliding contact", "resting"} <= set(names), names
+    assert {"in flight", "touchdown", "rebound", "sliding contact", "resting"} <= set(names), names
+    # every contact moment is a state with a point touching (the touchdown too: the step from
+    # the last state in flight feels no contact force and would prove nothing)
+    depth, _ = contact_state(Equations.from_scene(scene), np.array([z for _, z in moments]))
+    assert all((d > 0).any() == (n != "in flight") for n, d in zip(names, depth)), names
 
     def user_step(state, scene_dict, dt):
         return seed_box.box_step(state, scene, dt, torque_sign=-1.0)

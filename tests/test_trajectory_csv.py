@@ -74,3 +74,22 @@ def test_bad_file_names_the_file_the_place_and_the_expectation(tmp_path, case):
 def test_missing_file_is_a_csv_error(tmp_path):
     with pytest.raises(CsvError, match="cannot be read"):
         read_csv(tmp_path / "absent.csv")
+
+
+def test_a_byte_order_mark_is_accepted(tmp_path):
+    """Excel and Windows tools start a UTF-8 file with a byte-order mark: the header still reads."""
+    path = tmp_path / "bom.csv"
+    path.write_bytes(GOOD.encode("utf-8-sig"))
+    cols = read_csv(path)
+    assert list(cols["t"]) == [0.0, 0.001] and list(cols["x"]) == [0.0, 0.001]
+
+
+@pytest.mark.parametrize("encoding", ["utf-16", "utf-16-le", "utf-16-be", "utf-32", "latin-1"])
+def test_another_encoding_is_a_csv_error_naming_the_file(tmp_path, encoding):
+    path = tmp_path / f"{encoding}.csv"
+    text = GOOD + ("0.002,0,0.5,0,1,0,0,  # café\n" if encoding == "latin-1" else "")   # latin-1: é is one byte, not UTF-8
+    path.write_bytes(text.encode(encoding))
+    with pytest.raises(CsvError) as info:
+        read_csv(path)
+    message = str(info.value)
+    assert message.startswith(f"{path}: file: ") and "expected UTF-8 text" in message, message

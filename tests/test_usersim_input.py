@@ -6,10 +6,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import compare.commands.scene as scene_command
 from compare.cli import BadInput, main
 from compare.scenarios import load
-from compare.usersim import UserCodeError, load_simulator, run_user, scene_dict
+from compare.usersim import UserCodeError, UserFault, load_simulator, run_user, scene_dict
 from custom_sim import simulate
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -25,6 +24,16 @@ def module(tmp_path, body, name="user_sim"):
     path = tmp_path / f"{name}.py"
     path.write_text(textwrap.dedent(body))
     return str(path)
+
+
+def faults(sim_or_spec, scene, whole=False):
+    """A fault of this scene's run (an exception, a NaN): UserFault, the scene's row, not bad input."""
+    with pytest.raises(UserFault) as err:
+        sim = load_simulator(sim_or_spec, whole) if isinstance(sim_or_spec, str) else sim_or_spec
+        run_user(sim, scene)
+    message = str(err.value)
+    assert "\n" not in message
+    return message, err.value.details
 
 
 def fails(sim_or_spec, scene, whole=False):
@@ -97,17 +106,17 @@ def test_a_function_that_raises_shows_only_its_own_frames(tmp_path, scene):
             z = np.array(state); z[4] -= 9.81 * dt; z[1] += z[4] * dt
             return helper(z)
         """) + ":step"
-    message, details = fails(spec, scene)
+    message, details = faults(spec, scene)
     assert "at step 21 (t = 0.0021 s" in message and "ValueError: went too fast" in message and "from state [" in message
     assert details.count("user_sim.py") == 2 and "helper" in details and "compare" not in details
     assert details.splitlines()[-1] == "ValueError: went too fast"
 
 
 @pytest.mark.parametrize("returned, says", [
-    ("state[:5]", "returned shape (5,) at step 1 (expected shape (6,)"),
-    ("np.reshape(state, (6, 1))", "returned shape (6, 1) at step 1"),
-    ("None", "returned shape () at step 1"),
-    ("'abc'", "returned str at step 1"),
+    ("state[:5]", "at step 1 returned an array of shape (5,)"),
+    ("np.reshape(state, (6, 1))", "at step 1 returned an array of shape (6, 1)"),
+    ("None", "at step 1 returned None"),
+    ("'abc'", "at step 1 returned a str 'abc'"),
     ("np.where(state[1] < 0.2999, np.nan, state)", "returned a non-finite state"),
 ])
 def test_wrong_shape_or_nan(tmp_path, scene, returned, says):
@@ -117,7 +126,7 @@ def test_wrong_shape_or_nan(tmp_path, scene, returned, says):
             state = np.array(state); state[4] -= 9.81 * dt; state[1] += state[4] * dt
             return {returned}
         """) + ":step"
-    message, _ = fails(spec, scene)
+    message, _ = faults(spec, scene) if "non-finite" in says else fails(spec, scene)
     assert says in message and "user_sim.py:step" in message
 
 
@@ -128,7 +137,7 @@ def test_nan_names_the_step_and_the_state_before(tmp_path, scene):
             z = np.array(state, dtype=float); z[1] -= 1e-3
             return z if z[1] > 0.295 else z * np.nan
         """) + ":step"
-    message, _ = fails(spec, scene)
+    message, _ = faults(spec, scene)
     assert "non-finite state" in message and "at step 5 (t = 0.0005 s) from [0, 0.296, 0.4" in message
 
 
@@ -138,7 +147,7 @@ def test_whole_function_wrong_shape_nan_or_start(tmp_path, scene):
              "np.zeros((scene['steps'] + 1, 6))": "not the scene's initial state"}
     for i, (value, says) in enumerate(cases.items()):
         spec = module(tmp_path, f"import numpy as np\ndef simulate(scene):\n    return {value}\n", f"w{i}") + ":simulate"
-        message, _ = fails(spec, scene, whole=True)
+        message, _ = (faults if "non-finite" in says else fails)(spec, scene, whole=True)
         assert says in message and "expected" in message
 
 
@@ -156,7 +165,7 @@ def write_csv(folder, scene, header="t,x,y,theta,vx,vy,omega", rows=None, edit=N
 def test_trajectories_folder_passes_through(tmp_path, scene):
     traj = run_user(load_simulator(trajectories=write_csv(tmp_path / "ok", scene)), scene)
     assert np.array_equal(traj.states(), simulate(scene).states())
-    assert traj.meta["written_digits"] is None and traj.meta["wall_time_known"] is False
+    assert traj.meta["rounding"] is None and traj.meta["wall_time_known"] is False
     # columns in another order, an extra column: read by name
     folder = tmp_path / "reordered"
     states = simulate(scene).states()
@@ -187,17 +196,17 @@ def test_bad_csv_files(tmp_path, scene):
         load_simulator(trajectories=str(tmp_path / "absent"))
 
 
-def test_the_command_line_prints_the_traceback_once_then_one_line(monkeypatch, capsys, tmp_path, scene):
+def test_the_command_line_prints_the_traceback_once_then_one_line(capsys, tmp_path):
+    from compare.usersim.validate import main as validate
     spec = module(tmp_path, "def step(state, scene, dt):\n    return state[7]\n") + ":step"
-
-    def fake_main(args):
-        run_user(load_simulator(spec), scene)
-    monkeypatch.setattr(scene_command, "main", fake_main)
-    assert main(["scene", "box_drop"]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
+    assert validate([spec, "box_slide"]) == 1
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
     assert err[0].startswith("Traceback (your code") and sum("Traceback" in line for line in err) == 1
-    assert err[-1].startswith("error: ") and "IndexError" in err[-1] and "at step 1" in err[-1]
-    assert not any("compare/" in line for line in err[:-1])
+    assert err[-1].startswith("IndexError")
+    assert not any("compare/" in line for line in err)
+    line = next(x for x in captured.out.splitlines() if x.startswith("box_slide"))
+    assert "error:" in line and "IndexError" in line and "at step 1" in line
 
 
 def test_a_simulator_pickles_for_the_process_pool(scene):
@@ -217,7 +226,7 @@ def test_a_step_returning_lists_or_changing_its_input_in_place(tmp_path, scene):
     spec = module(tmp_path, "def step(state, scene, dt):\n    z = [state[0], state[1] - 1e-5, *state[2:6]]\n"
                             "    return z if z[1] > 0.2999 else z + [0.0]\n", "longer") + ":step"
     message, _ = fails(spec, scene)
-    assert "another length at a later step" in message
+    assert "at step 10 returned a list of 7 items" in message
 
 
 def test_an_energy_column_and_a_declared_integrator_are_taken(tmp_path, scene):
@@ -225,10 +234,13 @@ def test_an_energy_column_and_a_declared_integrator_are_taken(tmp_path, scene):
     states = simulate(scene).states()
     rows = np.column_stack([np.arange(len(states)) * scene.dt, states, np.full(len(states), 2.5)])
     write_csv(folder, scene, header="t,x,y,theta,vx,vy,omega,energy", rows=rows)
-    (folder / "simulator.toml").write_text('integrator = "verlet"\n')
+    (folder / "simulator.toml").write_text('integrator = "other:verlet"\n')
     traj = run_user(load_simulator(trajectories=str(folder)), scene)
     assert traj.meta["energy_source"] == "user" and np.allclose(traj.energy, 2.5)
-    assert traj.integrator == "verlet"
+    assert traj.integrator == "other:verlet"
+    (folder / "simulator.toml").write_text('integrator = "verlet"\n')
+    with pytest.raises(BadInput, match="not an integrator the harness knows"):
+        run_user(load_simulator(trajectories=str(folder)), scene)
 
 
 def test_the_error_survives_a_process_pool():
@@ -238,10 +250,120 @@ def test_the_error_survives_a_process_pool():
 
 
 def test_run_refuses_a_bad_simulator_before_writing_anything(tmp_path, capsys):
-    bad = module(tmp_path, "def step(state, scene, dt):\n    return state[9]\n", "bad")
+    bad = module(tmp_path, "def step(state, scene, dt):\n    return None\n", "bad")
     for flags in (["--sim", bad + ":step"], ["--sim", str(tmp_path / "absent.py") + ":step"],
                   ["--trajectories", str(tmp_path)], ["--whole"]):
         out = tmp_path / "out"
         assert main(["run", "box_slide", "--out", str(out), *flags]) == 2, flags
         err = capsys.readouterr().err.strip().splitlines()
         assert err[-1].startswith("error: ") and not out.exists(), flags
+
+
+# ---------------------------------------------------------------------------------------
+# A CSV's own rounding (fixed decimals or significant digits) and its encoding
+
+def rounded_folder(folder, scene, fmt, states=None, time_fmt=None):
+    """scene.csv as a C or numpy writer would give it: every column in `fmt` (the t column in
+    time_fmt when given), from custom_sim's run (or `states`)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    states = simulate(scene).states() if states is None else states
+    t = np.arange(len(states)) * scene.dt
+    lines = ["t,x,y,theta,vx,vy,omega"]
+    for ti, z in zip(t, states):
+        lines.append(",".join([(time_fmt or fmt) % ti] + [fmt % v for v in z]))
+    (folder / f"{scene.name}.csv").write_text("\n".join(lines) + "\n")
+    return str(folder)
+
+
+def checked(folder, scene):
+    from compare.verdict.identical_check import check_identical
+    from compare.verdict.step_check import check_step, split_arrays
+
+    traj = run_user(load_simulator(trajectories=folder), scene)
+    rounding = traj.meta["rounding"]
+    same = check_identical(scene, traj.states(), traj.integrator, scene.dt, rounding)
+    step, _ = split_arrays(check_step(scene, traj.states(), traj.integrator, scene.dt, rounding=rounding))
+    return same, step, rounding
+
+
+# box_slide starts sliding on its face (a stiff contact and friction from the first step);
+# point_drop falls and lands at t = 0.33 s (the stiff amplification of a touchdown)
+ROUNDED_SCENES = {"box_slide": 0.1, "point_drop": 0.4}
+
+
+@pytest.mark.parametrize("name", list(ROUNDED_SCENES))
+@pytest.mark.parametrize("fmt, kind, digits", [("%.6f", "decimals", 6), ("%.9f", "decimals", 9),
+                                               ("%.8g", "significant", 8), ("%.6g", "significant", 6)])
+def test_a_correct_csv_written_with_fixed_decimals_or_few_digits_passes(tmp_path, name, fmt, kind, digits):
+    """The file's rounding is found from its text and allowed for, absolute (%.6f writes
+    y = 0.0497548 as 0.049755 and a vx of 1e-8 as 0.000000) or relative (%.8g)."""
+    from compare.verdict.one_step import Rounding
+
+    scene = dataclasses.replace(load(name), duration=ROUNDED_SCENES[name])
+    same, step, rounding = checked(rounded_folder(tmp_path / "runs", scene, fmt), scene)
+    assert rounding == Rounding(kind, digits)
+    assert same["pass"] is True, same
+    assert step["pass"] is True, step
+    assert rounding.describe() in same["reason"] and rounding.describe() in step["reason"]
+
+
+@pytest.mark.parametrize("fmt", ["%.17g", "%.6f"])
+def test_a_wrong_simulator_still_fails_whatever_the_digits(tmp_path, fmt):
+    """g 1 % off: the rounding allowance does not hide a model difference."""
+    scene = dataclasses.replace(load("box_slide"), duration=0.1)
+    wrong = simulate(dataclasses.replace(scene, g=scene.g * 1.01)).states()
+    same, step, rounding = checked(rounded_folder(tmp_path / "runs", scene, fmt, states=wrong), scene)
+    assert (rounding is None) == (fmt == "%.17g")
+    assert same["pass"] is False and step["pass"] is False, (same, step)
+
+
+def test_rounding_coarser_than_the_motion_is_not_judged(tmp_path):
+    """One decimal (5 cm) on a box that moves 2 cm: neither check can tell a mistake from the
+    rounding, and each says so instead of passing."""
+    scene = dataclasses.replace(load("box_slide"), duration=0.01)
+    same, step, rounding = checked(rounded_folder(tmp_path / "runs", scene, "%.1f", time_fmt="%.17g"), scene)
+    assert rounding.kind == "decimals" and rounding.digits == 1
+    for row in (same, step):
+        assert row["pass"] is None and row["reason"].startswith("not judged") and "rounding" in row["reason"], row
+        assert row["tolerance_position"] is None
+
+
+def test_the_rounding_is_read_from_the_text():
+    from compare.usersim.csv_files import rounding_of_text
+    from compare.verdict.one_step import Rounding
+
+    head = "t,x,y,theta,vx,vy,omega\n"
+    assert rounding_of_text(head + "0.000000,0.000000,0.300000,0.400000,0.000000,0.000000,0.000000\n"
+                                   "0.000050,12.345678,0.299999,0.400000,0.000000,-0.000491,0.000000\n") \
+        == Rounding("decimals", 6)
+    assert rounding_of_text(head + "0,0,0.3,0.4,0,0,0\n5e-05,1.2345679e-08,0.29999998,0.4,0,-0.0004905,0\n") \
+        == Rounding("significant", 8)
+    full = ",".join(repr(v) for v in (5e-05, 0.1 + 0.2, 0.29999997547499997, 0.4, 1 / 3, -0.0004905, 2 / 3))
+    assert rounding_of_text(head + "0,0,0.3,0.4,0,0,0\n" + full + "\n") is None
+    # an absolute half unit: a value below it written as zero is still within it
+    assert Rounding("decimals", 6).half_unit([1e-8, 100.0]).tolist() == [5e-7, 5e-7]
+    assert Rounding("significant", 8).half_unit([2.0]).tolist() == [1e-7]
+
+
+@pytest.mark.parametrize("encoding, accepted", [("utf-8-sig", True), ("utf-16", False), ("utf-16-le", False),
+                                                ("utf-32", False)])
+def test_a_csv_with_a_byte_order_mark_is_read_another_encoding_is_named(tmp_path, scene, encoding, accepted):
+    folder = tmp_path / "runs"
+    path = Path(write_csv(folder, scene)) / f"{scene.name}.csv"
+    path.write_bytes(path.read_text().encode(encoding))
+    sim = load_simulator(trajectories=str(folder))
+    if accepted:
+        assert np.array_equal(run_user(sim, scene).states(), simulate(scene).states())
+        return
+    message, _ = fails(sim, scene)
+    assert message.startswith(str(path)) and "expected UTF-8 text" in message, message
+
+
+def test_a_coarse_file_still_fails_where_it_is_off_beyond_its_rounding(tmp_path):
+    """"Not judged" replaces only a pass: a file off by far more than its rounding (x jumping a
+    metre a step, written at one decimal) still fails both checks."""
+    scene = dataclasses.replace(load("box_slide"), duration=0.01)
+    wrong = simulate(scene).states()
+    wrong[:, 0] += np.arange(len(wrong)) * 1.0
+    same, step, _ = checked(rounded_folder(tmp_path / "runs", scene, "%.1f", states=wrong, time_fmt="%.17g"), scene)
+    assert same["pass"] is False and step["pass"] is False, (same, step)

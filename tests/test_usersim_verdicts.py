@@ -10,6 +10,7 @@ import pytest
 from compare.scenarios import builtin_names, load
 from compare.usersim import diagnosis, load_simulator, render_markdown, run_user
 from compare.verdict.identical_check import check_identical
+from compare.verdict.one_step import Rounding
 from compare.verdict.roundoff import roundoff_envelope
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -19,7 +20,7 @@ BUGGY = load_simulator(str(ROOT / "examples" / "buggy_sim.py") + ":step")
 
 def identical(sim, scene):
     traj = run_user(sim, scene)
-    return check_identical(scene, traj.states(), traj.integrator, scene.dt, traj.meta["written_digits"]), traj
+    return check_identical(scene, traj.states(), traj.integrator, scene.dt, traj.meta["rounding"]), traj
 
 
 @pytest.mark.parametrize("name", builtin_names())
@@ -156,7 +157,7 @@ def test_csv_route_with_ten_digits(tmp_path):
                     "--digits", "10"], cwd=ROOT / "examples", check=True, capture_output=True)
     files = load_simulator(trajectories=str(tmp_path / "runs"))
     row, traj = identical(files, scene)
-    assert traj.meta["written_digits"] == 10 and row["pass"] is True, row
+    assert traj.meta["rounding"] == Rounding("significant", 10) and row["pass"] is True, row
     buggy = np.column_stack([traj.t, run_user(BUGGY, scene).states()])
     np.savetxt(tmp_path / "runs" / "box_drop.csv", buggy, delimiter=",", header="t,x,y,theta,vx,vy,omega",
                comments="", fmt="%.10g")
@@ -167,7 +168,7 @@ def test_csv_route_with_ten_digits(tmp_path):
 def test_an_unknown_integrator_is_not_diagnosed_but_said(tmp_path):
     path = tmp_path / "verlet.py"
     path.write_text(f"import sys\nsys.path.insert(0, {str(ROOT / 'examples')!r})\nfrom seed_sim import step\n"
-                    "INTEGRATOR = 'verlet'\n")
+                    "INTEGRATOR = 'other:verlet'\n")
     sim = load_simulator(f"{path}:step")
     scene = dataclasses.replace(load("box_slide"), duration=0.02)
     diag = diagnosis(sim, scene, run_user(sim, scene).states())
@@ -175,17 +176,17 @@ def test_an_unknown_integrator_is_not_diagnosed_but_said(tmp_path):
 
 
 def test_an_unknown_integrator_is_still_compared(tmp_path):
-    """Named 'verlet', the seed's step is held to nothing it cannot be (no step, no identical
+    """Named 'other:verlet', the seed's step is held to nothing it cannot be (no step, no identical
     bound) but still shown against the reference, the dynamics twin (RK4) and MuJoCo."""
     from compare.verdict.comparison import run_scenario
     path = tmp_path / "verlet.py"
     path.write_text(f"import sys\nsys.path.insert(0, {str(ROOT / 'examples')!r})\nfrom seed_sim import step\n"
-                    "INTEGRATOR = 'verlet'\n")
+                    "INTEGRATOR = 'other:verlet'\n")
     scene = dataclasses.replace(load("box_slide"), duration=0.05)
     result = run_scenario(scene, load_simulator(f"{path}:step"))
     assert result.error is None, result.error
     rows = {c["name"]: c for c in result.checks}
-    assert rows["dynamics"]["integrator"] == "verlet" and rows["dynamics"]["pass"] is None
+    assert rows["dynamics"]["integrator"] == "other:verlet" and rows["dynamics"]["pass"] is None
     assert rows["dynamics"]["position_error_max"] < 1e-3   # semi-implicit Euler against RK4 over 0.05 s
     assert rows["reference"]["position_error_max"] is not None and rows["native"]["position_error_max"] is not None
     assert rows["step"]["pass"] is None and rows["identical"]["pass"] is None

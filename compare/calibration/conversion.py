@@ -107,5 +107,7 @@ def conversion_table(mass: float, k: float, c: float, shape: str = "point", size
             s = calibrated(target.base, params, [stored["parameters"][n] for n in names])
             e = errors(target, batch.paths(target, [s])[0])
             rows.append(Conversion("calibrated", s.solref, s.solimp, e["position_error_max"],
-                                   e["angle_error_max"], f"from {calibration}"))
+                                   e["angle_error_max"], f"from {calibration}" + (
+                                       "" if stored.get("accepted", True) else
+                                       f" (its fit was rejected: the {stored['base_mapping']} mapping's values)")))
     return rows

@@ -3,7 +3,11 @@
 Decision variable z = ln(p / p0), one entry per fitted parameter (parameters.py), p0 the base
 mapping's value (gain 1, or the base's solimp / impratio), with box bounds ln(lower / p0) ..
 ln(upper / p0). The residual stacks, for every scene, the COM's x, y and the angle times the
-radius of gyration at up to targets.MAX_SAMPLES times, over the scene's duration (targets.py).
+radius of gyration at up to targets.MAX_SAMPLES times, over the scene's duration (targets.py),
+each scene divided by its own error at the start (its RMS residual under the base mapping):
+the objective is 0.5 sum over scenes of (RMS error / RMS error at the start)^2, so a scene the
+mapping already follows to 1e-5 m weighs as much as one it misses by 0.1 m, and the fit cannot
+buy a share of the large error with a hundredfold of the small one.
 
 mujoco.minimize evaluates the residual on a matrix of candidates, one column each: the
 finite-difference Jacobian asks for n columns at once. Each call here turns the columns into
@@ -32,6 +36,10 @@ MAX_ITERATIONS = 30
 # A fitted z within this of a bound (0.1 % relative) sits on the bound.
 AT_BOUND = 1e-3
 CONVERGED = ("norm(dx) < tol.", "norm(gradient) < tol.")
+# A scene's weight is 1 / its RMS error at the start, floored here: two codes that agree do so
+# only to round-off over a run (1e-16 per step, 1e5 steps, 1 m: 1e-11 m; the contact check's
+# floor is a hundred times that), so a start closer than this is as good as exact.
+SCALE_FLOOR = 1e-9   # m
 
 
 @dataclass
@@ -45,13 +53,15 @@ class FitResult:
     status: str
     converged: bool
     iterations: int
-    objective: list[float]          # 0.5 |r|^2 at each iterate (the last: at the result)
+    objective: list[float]          # 0.5 |r|^2 at each iterate (the last: at the result), r
+                                    # each scene's residual / its scale (dimensionless)
     at_bound: list[str]             # names of parameters stuck on a bound, with which bound
     wall_time: float                # s
     mujoco_steps: int               # every step of every rollout of the fit
     residual_evaluations: int
     log: str = ""
     extra: dict = field(default_factory=dict)
+    scales: dict = field(default_factory=dict)   # scene -> its RMS error at the start (m), its weight's inverse
 
     @property
     def parameters(self) -> dict[str, float]:
@@ -75,7 +85,9 @@ def fit(targets: list[Target], params, max_iter: int = MAX_ITERATIONS, nthread: 
     calls = [0]
 
     with Batch(nthread) as batch:
-        residual = make_residual(targets, params, p0, batch, calls)
+        scales = start_scales(targets, params, p0 * np.exp(z0), batch)
+        calls[0] += 1                               # the start, one candidate on every scene
+        residual = make_residual(targets, params, p0, batch, calls, scales)
         begin = time.perf_counter()
         text = io.StringIO()
         z, trace = minimize.least_squares(z0, residual, bounds=(lower, upper), eps=FD_STEP,
@@ -91,18 +103,32 @@ def fit(targets: list[Target], params, max_iter: int = MAX_ITERATIONS, nthread: 
                 for p, zi, lo, hi in zip(params, z, lower, upper) if zi - lo < AT_BOUND or hi - zi < AT_BOUND]
     return FitResult(tuple(params), p0, p0 * np.exp(z), status, status in CONVERGED,
                      iterations, [float(t.objective) for t in trace], at_bound, wall,
-                     steps, calls[0], log)
+                     steps, calls[0], log,
+                     scales={t.name: float(v) for t, v in zip(targets, scales)})
 
 
-def make_residual(targets: list[Target], params, p0: np.ndarray, batch: Batch, calls: list):
-    """minimize's residual: z (n, k) -> (m, k), the k candidates of each scene in one rollout."""
+def start_scales(targets: list[Target], params, values: np.ndarray, batch: Batch) -> np.ndarray:
+    """Each scene's RMS residual (m) at the start values, at least SCALE_FLOOR."""
+    out = []
+    for target in targets:
+        r = residual_of(target, batch.paths(target, [calibrated(target.base, params, values)]))
+        out.append(max(SCALE_FLOOR, float(np.linalg.norm(r))))
+    return np.array(out)
+
+
+def make_residual(targets: list[Target], params, p0: np.ndarray, batch: Batch, calls: list,
+                  scales=None):
+    """minimize's residual: z (n, k) -> (m, k), the k candidates of each scene in one rollout;
+    each scene's part divided by its scale (start_scales; default 1 m)."""
+    scales = np.ones(len(targets)) if scales is None else np.asarray(scales, float)
+
     def residual(z: np.ndarray) -> np.ndarray:
         z = np.atleast_2d(z.T).T                    # (n, k): one column per candidate
         values = p0[:, None] * np.exp(z)
         parts = []
-        for target in targets:
+        for target, scale in zip(targets, scales):
             settings = [calibrated(target.base, params, values[:, j]) for j in range(z.shape[1])]
-            parts.append(residual_of(target, batch.paths(target, settings)))
+            parts.append(residual_of(target, batch.paths(target, settings)) / scale)
         calls[0] += z.shape[1]
         return np.concatenate(parts, axis=1).T      # (m, k)
     return residual

@@ -1,17 +1,23 @@
 """Write a calibration: DIR/index.md, DIR/calibration.json, DIR/model_<scene>.xml and plots.
 
 calibration.json (every length in m, angle in rad):
-    parameters       {name: fitted gain or value}
-    status           the optimiser's termination message; converged: bool
+    parameters       {name: gain or value the calibrated twin carries}: the fit's, or the
+                     start (the base mapping's) when the fit was rejected
+    fitted_parameters  {name: what the optimiser returned}
+    status           the optimiser's termination message, and "; fit rejected: ..." when the
+                     fit was worse than the base mapping on a scene it was fitted to;
+                     optimiser_status, converged: bool, accepted: bool, verdict (a sentence)
+    gave_up[]        each fitted scene the fit made worse: scene, position_error_max and
+                     angle_error_max {base mapping, fitted}, residual_rms {...}, why
     scenes[]         name, held_out, position_error_max {seed, physical, penalty, calibrated},
-                     angle_error_max {...}, settings (the calibrated pair values), causes
-    fit              start values, bounds, at_bound, iterations, objective per iteration,
+                     angle_error_max {...}, settings (the calibrated pair values), causes;
+                     rejected_fit {position_error_max, angle_error_max} when rejected
+    fit              start values, bounds, at_bound, iterations, objective per iteration
+                     (dimensionless: each scene's residual over its RMS at the start, `scales`),
                      wall_time (s), mujoco_steps, residual_evaluations, readback ok
 """
 from __future__ import annotations
 
-import json
-import os
 from pathlib import Path
 
 import matplotlib
@@ -22,16 +28,11 @@ import numpy as np  # noqa: E402
 
 from mujoco_models import MAPPINGS  # noqa: E402
 
+from ..report.atomic import finite_json, write_text_atomically  # noqa: E402
 from .calibration import Calibration  # noqa: E402
 from .causes import causes, short  # noqa: E402
 
 COLUMNS = (*MAPPINGS[::-1], "calibrated")   # seed, physical, penalty, calibrated
-
-
-def _atomic(path: Path, text: str) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
 
 
 def _m(x) -> str:
@@ -44,10 +45,16 @@ def _vec(v) -> str:
 
 def payload(cal: Calibration) -> dict:
     r = cal.result
+    kept = r.values if cal.values is None else cal.values
     return {
-        "parameters": r.parameters,
-        "status": r.status,
+        "parameters": dict(zip(r.parameters, map(float, kept))),
+        "fitted_parameters": r.parameters,
+        "status": r.status if cal.accepted else f"{r.status}; {cal.verdict}",
+        "optimiser_status": r.status,
         "converged": r.converged,
+        "accepted": cal.accepted,
+        "verdict": cal.verdict,
+        "gave_up": cal.gave_up,
         "base_mapping": cal.base,
         "scenes": [{
             "name": s.scene.name, "held_out": s.held_out,
@@ -57,12 +64,15 @@ def payload(cal: Calibration) -> dict:
             "model": f"model_{s.scene.name}.xml",
             "causes": [short(c) for c in causes(s.scene)],
             "readback": s.readback,
+            **({} if cal.accepted else {"rejected_fit": {
+                k: cal.fitted_errors[s.scene.name][k] for k in ("position_error_max", "angle_error_max")}}),
         } for s in cal.scenes],
         "fit": {
             "start": dict(zip(r.parameters, map(float, r.start))),
             "bounds": {p.name: [p.lower, p.upper] for p in cal.params},
             "kinds": {p.name: p.kind for p in cal.params},
             "at_bound": r.at_bound, "iterations": r.iterations, "objective": r.objective,
+            "scales": r.scales,
             "wall_time": r.wall_time, "mujoco_steps": r.mujoco_steps,
             "residual_evaluations": r.residual_evaluations,
             "jacobian_cost": cal.jacobian,
@@ -76,7 +86,7 @@ def objective_plot(objective: list[float], path: Path, title: str) -> str:
     fig, ax = plt.subplots(figsize=(6, 3.5))
     ax.semilogy(range(len(objective)), objective, "o-", color="tab:blue")
     ax.set_xlabel("iteration")
-    ax.set_ylabel("objective 0.5 |r|^2 (m^2)")
+    ax.set_ylabel("objective 0.5 |r|^2 (r: residual / its RMS at the start)")
     ax.set_title(title)
     ax.grid(alpha=0.3, which="both")
     fig.tight_layout()
@@ -89,8 +99,12 @@ def error_plot(s, base: str, path: Path) -> str:
     """Position error against time: the base mapping (before) and the calibrated twin (after)."""
     fig, ax = plt.subplots(figsize=(7, 3.5))
     every = slice(None, None, max(1, len(s.t) // 4000))
-    for key, style in ((base, dict(color="tab:orange", label=f"before ({base} mapping)")),
-                       ("calibrated", dict(color="tab:green", label="after (calibrated)"))):
+    curves = [(base, dict(color="tab:orange", label=f"before ({base} mapping)"))]
+    if "fitted" in s.paths:   # a rejected fit: the calibrated twin is the base mapping's
+        curves.append(("fitted", dict(color="tab:red", label="fitted values (rejected)")))
+    else:
+        curves.append(("calibrated", dict(color="tab:green", label="after (calibrated)")))
+    for key, style in curves:
         d = s.paths[key] - s.reference
         ax.plot(s.t[every], np.hypot(d[:, 0], d[:, 1])[every], lw=1.2, **style)
     ax.set_xlabel("t (s)")
@@ -113,7 +127,10 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
              f"`mujoco.minimize.least_squares` (box bounds, finite differences batched through `mujoco.rollout`).", "",
              f"- status: **{r.status}** ({'converged' if r.converged else 'NOT converged'}) after {r.iterations} iterations",
              f"- cost: {r.wall_time:.1f} s wall time, {r.mujoco_steps:,} MuJoCo steps in {r.residual_evaluations} rollouts",
-             f"- objective: {r.objective[0]:.4g} -> {r.objective[-1]:.4g} m^2"]
+             f"- objective: {r.objective[0]:.4g} -> {r.objective[-1]:.4g} (0.5 sum over the fitted scenes of "
+             f"(RMS difference / its RMS at the start)^2: each scene weighs by its own error under the "
+             f"{cal.base} mapping, " + ", ".join(f"{k} {v:.3g} m" for k, v in r.scales.items()) + ")",
+             f"- **{cal.verdict}**"]
     j = cal.jacobian
     if j:
         lines.append(f"- one Jacobian ({j['columns']} columns, every fitted scene): {j['batched']:.2f} s batched "
@@ -124,23 +141,33 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
     if r.at_bound:
         lines += [f"**Stuck on a bound:** {', '.join(r.at_bound)}: the optimum lies outside the box; "
                   f"the setting is compensating for something it cannot model (see below).", ""]
-    lines += ["## Fitted settings", "", "| parameter | kind | start | fitted | bounds | on a bound |",
-              "|---|---|---|---|---|---|"]
+    for g in cal.gave_up:
+        pe, ae = g["position_error_max"], g["angle_error_max"]
+        lines += [f"**The fit gave up {g['scene']}**, a scene it was fitted to: with the fitted values its "
+                  f"largest difference is {_m(pe['fitted'])} m, {_m(ae['fitted'])} rad against "
+                  f"{_m(pe[cal.base])} m, {_m(ae[cal.base])} rad with the {cal.base} mapping; {g['why']}. "
+                  f"The fit is rejected: the calibrated twin (column *calibrated*, the MJCF files) keeps the "
+                  f"{cal.base} mapping's values (column *start*); column *fitted (rejected)* shows what the "
+                  f"fit would have given.", ""]
+    lines += ["## Fitted settings", "", f"| parameter | kind | start | fitted{'' if cal.accepted else ' (rejected)'} "
+              f"| bounds | on a bound |", "|---|---|---|---|---|---|"]
     for p, v0, v in zip(cal.params, r.start, r.values):
         flag = "**yes**" if any(b.startswith(p.name + " ") for b in r.at_bound) else "no"
         lines.append(f"| `{p.name}` | {p.kind} | {v0:.4g} | {v:.4g} | [{p.lower:g}, {p.upper:g}] | {flag} |")
     lines += ["", "A gain multiplies the base mapping's value of each scene (see docs/calibration.md); the "
               "per-scene values are in calibration.json (`settings`) and in the MJCF files.", "",
               "## Position error max (m) against custom_sim", "",
-              "| scene | role | seed | physical | penalty | calibrated |", "|---|---|---|---|---|---|"]
+              "| scene | role | seed | physical | penalty | calibrated |" + ("" if cal.accepted else " fitted (rejected) |"),
+              "|---|---|---|---|---|---|" + ("" if cal.accepted else "---|")]
     for s in cal.scenes:
         e = s.errors
         lines.append(f"| {s.scene.name} | {'held out' if s.held_out else 'fitted'} | " +
-                     " | ".join(_m(e[k]["position_error_max"]) for k in COLUMNS) + " |")
+                     " | ".join(_m(e[k]["position_error_max"]) for k in COLUMNS) + " |" +
+                     ("" if cal.accepted else f" {_m(cal.fitted_errors[s.scene.name]['position_error_max'])} |"))
     for s in cal.scenes:
         e = {k: s.errors[k]["position_error_max"] for k in COLUMNS}
         best = min((k for k in MAPPINGS if e[k] is not None), key=lambda k: e[k], default=None)
-        if best and (e["calibrated"] is None or e["calibrated"] > e[best]):
+        if cal.accepted and best and (e["calibrated"] is None or e["calibrated"] > e[best]):
             lines.append(f"\n**{s.scene.name}: the calibrated twin is worse than the {best} mapping** "
                          f"({_m(e['calibrated'])} m against {_m(e[best])} m): the fitted settings compensate "
                          f"something a contact setting cannot model in the fitted scenes (see below), and the "
@@ -189,10 +216,10 @@ def write_calibration(cal: Calibration, out: Path) -> Path:
                                            "calibration: objective per iteration")}
     for s in cal.scenes:
         figures[s.scene.name] = error_plot(s, cal.base, out / f"residual_{s.scene.name}.png")
-        _atomic(out / f"model_{s.scene.name}.xml", s.mjcf)
+        write_text_atomically(out / f"model_{s.scene.name}.xml", s.mjcf)
     data = payload(cal)
-    _atomic(out / "calibration.json", json.dumps(data, indent=2))
-    _atomic(out / "index.md", index_page(cal, data, figures))
+    write_text_atomically(out / "calibration.json", finite_json(data, indent=2))
+    write_text_atomically(out / "index.md", index_page(cal, data, figures))
     return out / "index.md"
 
 
@@ -245,6 +272,6 @@ def write_reverse(result, targets, out: Path) -> Path:
                   f"c = {v['c']:.6g}        # N s/m", f"mu = {v['mu']:.6g}",
                   f"alpha = {v['alpha']:.6g}    # s/m", "```", ""]
     lines += ["", f"![objective]({fig})", "", "```", result.log.strip(), "```", ""]
-    _atomic(out / "calibration.json", json.dumps(data, indent=2))
-    _atomic(out / "index.md", "\n".join(lines))
+    write_text_atomically(out / "calibration.json", finite_json(data, indent=2))
+    write_text_atomically(out / "index.md", "\n".join(lines))
     return out / "index.md"

@@ -9,8 +9,11 @@ mapping) or solref.timeconst, solref.dampratio (positive form, on the physical m
 solreffriction.damping, friction.slide, friction.roll, solimp.d0, solimp.dwidth, solimp.width,
 solimp.midpoint, solimp.power, impratio (default: solref.stiffness, solref.damping,
 solreffriction.damping, friction.slide). Writes DIR/index.md, DIR/calibration.json,
-DIR/model_<scene>.xml (the calibrated MJCF) and plots. Exit status: 0 converged, 1 not
-converged, 2 bad input (nothing is written).
+DIR/model_<scene>.xml (the calibrated MJCF) and plots. Each scene weighs by its own error
+under the starting mapping, and a fit that leaves a fitted scene worse than that mapping (its
+largest position or angle difference) is rejected: the calibrated twin keeps the mapping's
+values, and the status names the scene and why. Exit status: 0 converged, 1 not converged,
+2 bad input (nothing is written).
 """
 from __future__ import annotations
 
@@ -102,11 +105,15 @@ def _run(args, fitted, held, params, base_mapping, out) -> int:
         result = cal.result
         index = write_calibration(cal, out)
         for name, value in result.parameters.items():
-            print(f"{name:<24} {value:.6g}")
+            print(f"{name:<24} {value:.6g}" + ("" if cal.accepted else " (rejected)"))
         for s in cal.scenes:
             e = s.errors
             print(f"{s.scene.name:<16} {'held out' if s.held_out else 'fitted':<9} position error max (m): " +
-                  ", ".join(f"{k} {_m(e[k]['position_error_max'])}" for k in ("seed", "physical", "penalty", "calibrated")))
+                  ", ".join(f"{k} {_m(e[k]['position_error_max'])}" for k in ("seed", "physical", "penalty", "calibrated"))
+                  + ("" if cal.accepted else f", fitted (rejected) {_m(cal.fitted_errors[s.scene.name]['position_error_max'])}"))
+        for g in cal.gave_up:
+            print(f"gave up {g['scene']}: {g['why']}")
+        print(cal.verdict)
     print(f"status: {result.status} ({'converged' if result.converged else 'NOT converged'}), "
           f"{result.iterations} iterations, {result.wall_time:.1f} s")
     if result.at_bound:

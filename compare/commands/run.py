@@ -8,15 +8,14 @@ input (nothing is written).
 """
 from __future__ import annotations
 
+import functools
 import os
 import sys
-from concurrent.futures import ProcessPoolExecutor
-from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 
 from custom_sim.compile_cache import warm_up_in_parallel
 
-from ..cli import output_folder
+from ..cli import EXIT_INTERRUPTED, output_folder
 from ..scenarios import load_all
 
 
@@ -42,6 +41,7 @@ def add_arguments(parser) -> None:
     which.add_argument("--trajectories", metavar="DIR",
                        help="precomputed runs DIR/<scene name>.csv, columns by header name: t,x,y,theta,vx,vy,omega "
                             "required (energy optional), first row t = 0, then one row per step of dt")
+    add_timeout(parser)
     parser.set_defaults(load_simulator=_load_simulator)
 
 
@@ -59,9 +59,11 @@ def one_line(exc: BaseException) -> str:
 
 
 def run_one(scene, out: str, simulator=None):
-    """Worker: run, judge and write one scenario. Returns (metrics.json dict, None), or
-    (None, (status, cause)) when no verdict could be reached; never raises for a failure
-    inside the scenario, so one scenario cannot stop the others."""
+    """A scenario's process: run, judge and write it into `out`. Returns an Outcome: the
+    metrics.json dict; or (status, cause) when no verdict could be reached; or the bad input
+    the user's code gave (the whole run then writes nothing). Never raises."""
+    from ..scene_processes import Outcome
+    from ..usersim import UserCodeError
     try:
         from mujoco_models import to_mjcf
 
@@ -70,13 +72,12 @@ def run_one(scene, out: str, simulator=None):
 
         result = run_scenario(scene, simulator)
         if result.error:
-            return None, (result.status, result.error)
-        return write_scenario(result, Path(out), to_mjcf(scene)), None
+            return Outcome(failure=(result.status, result.error, result.error_details))
+        return Outcome(row=write_scenario(result, Path(out), to_mjcf(scene)))
+    except UserCodeError as exc:
+        return Outcome(bad_input=(str(exc), exc.details))
     except Exception as exc:  # noqa: BLE001 - becomes the scenario's error row
-        from ..cli import BadInput
-        if isinstance(exc, BadInput):
-            raise
-        return None, ("error", one_line(exc))
+        return Outcome(failure=("error", one_line(exc)))
 
 
 def expected_cost(scene) -> float:
@@ -88,85 +89,112 @@ def expected_cost(scene) -> float:
     return scene.steps * evals * len(mass_properties(scene.body).points) + 2e5
 
 
-def run_all(scenes, out: Path, jobs: int, simulator=None) -> tuple[dict, dict]:
-    """Every scene in worker processes. A worker that dies (a crash in compiled code, the
-    machine killing it) breaks the pool; the scenes it took down are run again, one process
-    each, so that only the one that kills its process gets an error row."""
-    from tqdm import tqdm
+def _number(value, unit: str) -> str:
+    return "–" if value is None else f"{value:.3e} {unit}"
 
-    rows, failures = {}, {}
-    todo = sorted(scenes, key=expected_cost, reverse=True)  # longest first: the pool's tail is short
-    with tqdm(total=len(todo), desc="scenarios", unit="scene", delay=2, file=sys.stderr) as bar:
-        for width in (max(1, min(jobs, len(todo))), 1):
-            lost = []
-            groups = [todo] if width > 1 else [[s] for s in todo]
-            for group in groups:
-                try:
-                    with ProcessPoolExecutor(width) as pool:
-                        futures = {pool.submit(run_one, s, str(out), simulator): s for s in group}
-                        for future in futures:
-                            scene = futures[future]
-                            try:
-                                row, failure = future.result()
-                            except BrokenProcessPool:
-                                lost.append(scene)
-                                continue
-                            bar.update()
-                            if row is None:
-                                failures[scene.name] = failure
-                            else:
-                                rows[scene.name] = row
-                except BrokenProcessPool:
-                    pass
-            todo = [s for s in lost if s.name not in rows and s.name not in failures]
-            if not todo:
-                break
-        for scene in todo:  # died even alone
-            failures[scene.name] = ("error", "the worker process running it died (a crash outside Python)")
-            bar.update()
-    return rows, failures
+
+def failure_text(check: dict) -> str:
+    """What a failed check measured: the component and value that left the tolerance."""
+    from ..verdict.comparison import check_label
+
+    label = check_label(check)
+    if check.get("first_residual") is not None:   # step: per component, per step
+        return (f"{label}: {check['component']} off by {check['first_residual']:.3e} at step {check['first_step']} "
+                f"(t = {check['first_time']:.6g} s, {check['phase']}), round-off bound {check['first_bound']:.3e}")
+    parts = []
+    pos, tol_p = check.get("position_error_max"), check.get("tolerance_position")
+    ang, tol_a = check.get("angle_error_max"), check.get("tolerance_angle")
+    if pos is not None and tol_p is not None and pos > tol_p:
+        parts.append(f"position {pos:.3e} m (tolerance {tol_p:.3e} m)")
+    if ang is not None and tol_a is not None and ang > tol_a:
+        parts.append(f"angle {ang:.3e} rad (tolerance {tol_a:.3e} rad)")
+    if check.get("component_first_over") and check.get("first_step_over") is not None:
+        parts.append(f"first at step {check['first_step_over']}, in {check['component_first_over']}")
+    if not parts:   # failed on something else (a non-finite state, ...): its reason says what
+        parts.append(check.get("reason") or f"position {_number(pos, 'm')}, angle {_number(ang, 'rad')}")
+    return f"{label}: " + ", ".join(parts)
 
 
 def verdict_line(row: dict) -> str:
+    """The line `run` prints for a scenario that ran: pass (with what was not judged), FAIL
+    (each failed check's component and value), or not judged."""
+    from ..verdict.comparison import SHOWN, check_label
+
     name = row["name"]
+    judged = [c for c in row["checks"] if c["pass"] is not None]
+    skipped = [check_label(c) for c in row["checks"] if c["pass"] is None and c["name"] not in SHOWN]
+    note = f"; not judged: {', '.join(skipped)} (see the page)" if skipped else ""
+    if not judged:
+        return f"{name:<20} not judged: no check could be judged ({', '.join(skipped) or 'none'}; see the page)"
     if row["pass"]:
-        judged = [c for c in row["checks"] if c["pass"] is not None]
-        return f"{name:<20} pass  {len(judged)} checks within tolerance"
-    parts = []
-    for c in row["checks"]:
-        if c["pass"] is False:
-            label = f"{c['name']} ({c['integrator']})" if c.get("integrator") else c["name"]
-            parts.append(f"{label}: position {c['position_error_max']:.3e} m (tolerance "
-                         f"{c['tolerance_position']:.3e} m), angle {c['angle_error_max']:.3e} rad "
-                         f"(tolerance {c['tolerance_angle']:.3e} rad)")
-    return f"{name:<20} FAIL  " + "; ".join(parts)
+        return f"{name:<20} pass  {len(judged)} checks within tolerance{note}"
+    return f"{name:<20} FAIL  " + "; ".join(failure_text(c) for c in row["checks"] if c["pass"] is False)
+
+
+def add_timeout(parser) -> None:
+    parser.add_argument("--timeout", type=float, metavar="SECONDS",
+                        help="stop a scenario that runs longer than this (its row says where it was)")
 
 
 def main(args) -> int:
+    import signal
+
+    from ..usersim.guard import mark_interrupted
+
+    previous = signal.signal(signal.SIGINT, mark_interrupted)
+    try:
+        return _run(args)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _run(args) -> int:
+    from ..report.publish import report_aside
+    from ..scene_processes import Interrupted, run_scenes
+    from ..usersim import UserCodeError
+
+    out = output_folder(args.out).resolve()   # before the user's module imports: its chdir cannot move it
+    if args.timeout is not None and not args.timeout > 0:
+        from ..cli import BadInput
+        raise BadInput(f"--timeout {args.timeout:g}: expected a positive number of seconds")
     scenes = load_all(args.scenes)
     simulator = None
     loader = getattr(args, "load_simulator", None)
     if loader is not None:
         simulator = loader(args, scenes)  # bad input is raised here, before anything is written
-    out = output_folder(args.out)
     compile_everything()
-    out.mkdir(parents=True, exist_ok=True)
 
     from ..report import write_index
 
-    rows, failures = run_all(scenes, out, args.jobs, simulator)
-    ordered = [rows[s.name] for s in scenes if s.name in rows]
-    failed = [(s.name, *failures[s.name]) for s in scenes if s.name in failures]
-    index = write_index(out, ordered, failed)
-    for r in ordered:
+    try:
+        with report_aside(out) as work:
+            outcomes = run_scenes(scenes, functools.partial(run_one, out=str(work), simulator=simulator),
+                                  args.jobs, args.timeout, expected_cost)
+            bad = [o.bad_input for o in outcomes.values() if o.bad_input]
+            if bad:
+                raise UserCodeError(*bad[0])
+            rows = [outcomes[s.name].row for s in scenes if outcomes[s.name].row is not None]
+            failed = [(s.name, *outcomes[s.name].failure[:2]) for s in scenes if outcomes[s.name].failure]
+            details = [outcomes[s.name].failure[2] for s in scenes if outcomes[s.name].failure
+                       and len(outcomes[s.name].failure) > 2 and outcomes[s.name].failure[2]]
+            index = write_index(work, rows, failed)
+    except Interrupted as exc:
+        print(f"interrupted: {exc}; nothing written", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    index = out / index.name
+    for r in rows:
         for warning in r.get("warnings", []):
-            print(f"warning: {warning}", file=sys.stderr)
+            named = warning if warning.startswith(f"{r['name']}:") else f"{r['name']}: {warning}"
+            print(f"warning: {named}", file=sys.stderr)
         print(verdict_line(r))
+    for text in details:
+        print(text, file=sys.stderr)
     for name, status, why in failed:
         print(f"{name:<20} {status}: {why}")
         print(f"error: {why}", file=sys.stderr)
     print(f"report: {index}")
-    return 0 if not failed and all(r["pass"] for r in ordered) else 1
+    judged = all(any(c["pass"] is not None for c in r["checks"]) for r in rows)
+    return 0 if not failed and judged and all(r["pass"] for r in rows) else 1
 
 
 def prepare_workers() -> None:

@@ -12,7 +12,6 @@ cached (--cache). Uses every core. Exit status: 0 done, 2 bad input.
 """
 from __future__ import annotations
 
-import json
 import math
 import os
 import sys
@@ -21,6 +20,7 @@ from pathlib import Path
 
 
 from ..cli import output_folder
+from ..report.atomic import finite_json, temporary_folder
 from ..scenarios import load_all
 
 COLORS = {"explicit_euler": "tab:red", "semi_implicit_euler": "tab:blue", "implicit_euler": "tab:green",
@@ -69,10 +69,9 @@ def main(args) -> int:
     # written beside its place and renamed into it when complete: a reader never sees half a
     # report, and a failure leaves the previous one
     import shutil
-    import tempfile
 
     out.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(dir=out, prefix=".sweep."))
+    tmp = temporary_folder(out, ".sweep.")
     try:
         for sweep in results:
             plot_scene(sweep, tmp / f"{sweep.scene.name}_workprecision.png")
@@ -472,4 +471,4 @@ def write_json(results, path: Path, runtime: float, jobs: int) -> None:
             "runs": [r.as_dict() for r in sweep.runs],
             "stability": [dataclasses.asdict(lim) for lim in sweep.stability],
         })
-    path.write_text(json.dumps(doc, indent=1))
+    path.write_text(finite_json(doc, indent=1))

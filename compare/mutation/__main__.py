@@ -20,6 +20,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from ..report.atomic import finite_json
 from .catalogue import MISTAKES, Mistake
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -110,7 +111,7 @@ def main(argv=None) -> int:
         results = list(pool.map(lambda m: run_mutant(m, args.scenes), chosen))
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "mutation.json").write_text(json.dumps(results, indent=2) + "\n")
+    (out / "mutation.json").write_text(finite_json(results, indent=2) + "\n")
     (out / "index.md").write_text(index_page(results))
     for r in results:
         verdict = "caught by " + ", ".join(checks_named(r["by"])) if r["caught"] else "NOT CAUGHT"

@@ -5,13 +5,13 @@ index.md is replaced in one step, so an interrupted run never leaves a half-writ
 """
 from __future__ import annotations
 
-import json
 import os
 import shutil
-import tempfile
 from pathlib import Path
 
 from custom_sim import write_csv
+
+from .atomic import finite_json, temporary_folder, write_text_atomically
 
 from ..verdict import metrics
 from . import plots
@@ -28,20 +28,17 @@ def _fmt(x, unit: str = "") -> str:
 
 
 def _write_atomically(path: Path, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
-    with os.fdopen(fd, "w", encoding="utf-8") as f:
-        f.write(text)
-    os.replace(tmp, path)
+    """Complete or absent, with the umask's permissions (compare/report/atomic.py)."""
+    write_text_atomically(path, text)
 
 
 def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
     """Write DIR/<name>/ for a scenario that ran; returns its metrics.json content."""
     scene = result.scene
     final = out / scene.name
-    tmp = Path(tempfile.mkdtemp(dir=out, prefix=f".{scene.name}."))
+    tmp = temporary_folder(out, prefix=f".{scene.name}.")   # the umask's permissions, not 0700
     try:
         data = metrics_json(result)
-        (tmp / "metrics.json").write_text(json.dumps(data, indent=2, allow_nan=False) + "\n")
         write_csv(result.custom, tmp / "trajectory_custom.csv")
         write_csv(result.mujoco, tmp / "trajectory_mujoco.csv")
         tested, twin = result.under_test, result.mujoco
@@ -50,14 +47,17 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
         (tmp / "model.xml").write_text(mjcf)
         diffs = metrics.differences(tested, twin)
         shown = (tested, twin) if tested is result.custom else (tested, result.custom, twin)
-        figures = {
-            "states": plots.states(scene, shown, tmp / "states.png", result.reference),
-            "path": plots.path_in_plane(scene, shown, tmp / "path.png"),
-            "error": plots.error(scene, diffs, tmp / "error.png"),
-            "energy": plots.energy(scene, shown, tmp / "energy.png"),
-            "snapshots": plots.snapshots(scene, tested, twin, tmp / "snapshots.png"),
-            "residuals": plots.step_residuals(scene, result.residuals, result.checks, tmp / "residuals.png"),
-        }
+        figures = plots.draw_all({
+            "states": lambda: plots.states(scene, shown, tmp / "states.png", result.reference),
+            "path": lambda: plots.path_in_plane(scene, shown, tmp / "path.png"),
+            "error": lambda: plots.error(scene, diffs, tmp / "error.png"),
+            "energy": lambda: plots.energy(scene, shown, tmp / "energy.png"),
+            "snapshots": lambda: plots.snapshots(scene, tested, twin, tmp / "snapshots.png"),
+            "residuals": lambda: plots.step_residuals(scene, result.residuals, result.checks, tmp / "residuals.png"),
+        }, result.warnings)   # a figure that fails adds a warning (data["warnings"] is that list)
+        # a non-finite number (a user's 1e308 states make errors inf) is written as null and
+        # listed under "non_finite": never NaN or Infinity, which is not JSON, and never a crash
+        (tmp / "metrics.json").write_text(finite_json(data, indent=2) + "\n")
         (tmp / "index.md").write_text(scenario_page(result, data, figures))
         if final.exists():
             shutil.rmtree(final)
@@ -66,6 +66,11 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return data
+
+
+def _image(figures: dict, name: str) -> list[str]:
+    """A figure's markdown lines, or a note where it could not be drawn (see the warnings)."""
+    return [f"![{name}]({figures[name]})" if figures.get(name) else f"*(the {name} figure could not be drawn)*", ""]
 
 
 def _verdict(passed) -> str:
@@ -80,7 +85,8 @@ def checks_table(result: Result) -> list[str]:
                 if c["position_error_max"] is not None else "–")
         tol = (f"{_fmt(c['tolerance_position'], ' m')}, {_fmt(c['tolerance_angle'], ' rad')}"
                if c["tolerance_position"] is not None else "–")
-        note = "" if c["pass"] else f" ({c['reason']})"
+        reason = c["reason"].removeprefix("not judged: ") if c["pass"] is None else c["reason"]
+        note = "" if c["pass"] else f" ({reason})"
         where = f"; first at step {c['first_step']} ({c.get('phase', '')}, {c.get('component', '')})" \
             if c["pass"] is False and c.get("first_step") is not None else ""
         lines.append(f"| {check_label(c)} | {c['isolates']} | {diff} | {tol} | {_verdict(c['pass'])}{note}{where} |")
@@ -115,9 +121,14 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
     twin, tested = result.mujoco, result.under_test
     ev_c, ev_m = data["events_custom"], data["events_mujoco"]
     judged = result.judged
-    summary = (f"**{'PASS' if result.passed else 'FAIL'}**: {len(judged) - len(result.failed)} of {len(judged)} "
-               f"judged checks within tolerance"
-               + (f"; outside: {', '.join(check_label(c) for c in result.failed)}" if result.failed else "") + ".")
+    skipped = ", ".join(check_label(c) for c in result.not_judged)
+    if not judged:
+        summary = f"**NOT JUDGED**: no check could be judged ({skipped}; each row says why)."
+    else:
+        summary = (f"**{'PASS' if result.passed else 'FAIL'}**: {len(judged) - len(result.failed)} of {len(judged)} "
+                   f"judged checks within tolerance"
+                   + (f"; outside: {', '.join(check_label(c) for c in result.failed)}" if result.failed else "")
+                   + (f"; not judged: {skipped} (each row says why)" if skipped else "") + ".")
     lines = [f"# {scene.name}", "", scene.description, "", summary, ""]
     lines += [f"> warning: {w}" for w in result.warnings]
     if result.warnings:
@@ -146,17 +157,14 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
     if result.diagnosis:
         from ..usersim import diagnosis_markdown
         lines += ["## Diagnosis", "", diagnosis_markdown(result.diagnosis), ""]
-    lines += ["## Trajectories", "", f"![states]({figures['states']})", "", f"![path]({figures['path']})", "",
-              f"![snapshots]({figures['snapshots']})", ""]
+    lines += ["## Trajectories", ""] + _image(figures, "states") + _image(figures, "path") + _image(figures, "snapshots")
     if figures.get("residuals"):
-        lines += ["## One step against the independent step", "", f"![residuals]({figures['residuals']})", ""]
+        lines += ["## One step against the independent step", ""] + _image(figures, "residuals")
     lines += [
         "## Difference to MuJoCo's own contact, and energy",
         "",
-        f"![error]({figures['error']})",
-        "",
-        f"![energy]({figures['energy']})",
-        "",
+        *_image(figures, "error"),
+        *_image(figures, "energy"),
         f"Energy drift E(end) - E(0): {result.simulator} {_fmt(data['energy_drift_custom'], ' J')}, "
         f"MuJoCo {_fmt(data['energy_drift_mujoco'], ' J')} (E(0) = {_fmt(data['energy_initial'], ' J')}).",
         "",
@@ -201,6 +209,13 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
     return "\n".join(lines)
 
 
+def _status_cell(row: dict, failed: str) -> str:
+    status = row.get("status", "pass" if row["pass"] else "FAIL")
+    if status == "FAIL":
+        return "**FAIL**: " + failed
+    return "**not judged**" if status == "not judged" else status
+
+
 def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
     lines = [
         "# Comparison report",
@@ -223,7 +238,7 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
             f"| {_fmt(r['position_error_max'])} | {_fmt(r['position_error_rms'])} | {_fmt(r['angle_error_max'])} "
             f"| {_fmt(r['energy_drift_custom'])} | {_fmt(r['energy_drift_mujoco'])} "
             f"| {_fmt(r['wall_time_custom'])} | {_fmt(r['wall_time_mujoco'])} "
-            f"| {'pass' if r['pass'] else '**FAIL**: ' + failed} |")
+            f"| {_status_cell(r, failed)} |")
     for name, status, why in failures:
         lines.append(f"| {name} | | | | | | | | | | | | **{status}**: {why} |")
     lines += ["", "## Every judged check", "",

@@ -46,7 +46,30 @@ def _envelope(y: np.ndarray) -> np.ndarray | slice:
 MARGINS = dict(left=0.14, right=0.97, bottom=0.1, top=0.92, hspace=0.3, wspace=0.25)
 # Titles at a fixed height above their axes: placed automatically, each title measures the
 # bounding box of every tick label of its axes first, which was 40 % of drawing a figure.
-matplotlib.rcParams["axes.titley"] = 1.0
+HARNESS_RC = {"axes.titley": 1.0}
+
+
+def draw_all(figures: dict, warnings: list) -> dict:
+    """Each figure drawn under matplotlib's defaults plus HARNESS_RC (whatever a user's module
+    set: text.usetex, a style); one that fails is left out, with a warning: a plot never costs
+    a verdict. figures: name -> function drawing it (returns the file name or None)."""
+    import warnings as python_warnings
+
+    drawn = {}
+    for name, draw in figures.items():
+        try:
+            with python_warnings.catch_warnings(), matplotlib.rc_context():
+                python_warnings.simplefilter("ignore")
+                matplotlib.rcdefaults()
+                matplotlib.rcParams.update(HARNESS_RC)
+                drawn[name] = draw()
+        except Exception as exc:  # noqa: BLE001 - a figure is not a verdict
+            plt.close("all")
+            text = str(exc).strip().splitlines()
+            warnings.append(f"the {name} figure could not be drawn ({type(exc).__name__}: "
+                            f"{text[0] if text else ''}); the checks are unaffected")
+            drawn[name] = None
+    return drawn
 
 
 def _power_of_ten(value: float, _position) -> str:

@@ -17,12 +17,13 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import os
 import shutil
 import tempfile
 import time
 from pathlib import Path
+
+from ..report.atomic import finite_json
 
 RUNS = 16
 REPEATS = 3
@@ -156,7 +157,7 @@ def main(argv=None) -> int:
     result["study_speedup_2_workers"] = one["wall_time"] / two["wall_time"]
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "benchmark.json").write_text(json.dumps(result, indent=1))
+    (out / "benchmark.json").write_text(finite_json(result, indent=1))
     print(f"load average before {load_before[0]:.2f}, after {result['load_after'][0]:.2f} on {os.cpu_count()} cores")
     for r in result["custom"]:
         print(f"custom_sim dt={r['dt']:g} ({r['steps']} steps): {r['runs_per_s_single_calls']:.0f} runs/s one call "

@@ -6,8 +6,10 @@ no error), and the `note` column says why. Parquet beside it when pyarrow is ins
 from __future__ import annotations
 
 import csv
-import os
+import io
 from pathlib import Path
+
+from ..report.atomic import write_text_atomically
 
 # After the varied fields, in this order. The first eight are the table's fixed contract;
 # the rest are added after them.
@@ -42,13 +44,12 @@ def records(names: list[str], rows: list[dict]) -> list[dict]:
 
 def write_csv(path: Path, names: list[str], rows: list[dict]) -> None:
     """Written beside its place and renamed into it: a reader never sees half a table."""
-    tmp = path.with_suffix(".csv.tmp")
-    with tmp.open("w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(columns(names))
-        for rec in records(names, rows):
-            writer.writerow([_cell(rec[c]) for c in columns(names)])
-    os.replace(tmp, path)
+    text = io.StringIO(newline="")
+    writer = csv.writer(text)
+    writer.writerow(columns(names))
+    for rec in records(names, rows):
+        writer.writerow([_cell(rec[c]) for c in columns(names)])
+    write_text_atomically(path, text.getvalue())
 
 
 def write_parquet(path: Path, names: list[str], rows: list[dict]) -> bool:

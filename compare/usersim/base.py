@@ -1,13 +1,15 @@
 """What every way in gives the harness: a UserRun of states, and the simulator's common face."""
 from __future__ import annotations
 
+import difflib
 from dataclasses import dataclass
 
 import numpy as np
 
-from custom_sim import Scene
+from custom_sim import INTEGRATORS, Scene
 from custom_sim.model import initial_state
 
+from ..verdict.one_step import Rounding
 from .errors import UserCodeError
 
 STATE = "[x, y, theta, vx, vy, omega]"
@@ -22,14 +24,41 @@ class UserRun:
     """One scene run by the user's simulator.
 
     states (steps + 1, 6); energy (steps + 1,) J or None when not supplied; wall_time s
-    (None: not known, a CSV); written_digits: significant digits the states were stored with
-    (a CSV) or None (full double precision); integrator: the one the simulator names."""
+    (None: not known, a CSV); integrator: the one the simulator names; rounding: how the
+    states were written (a CSV: compare.verdict.one_step.Rounding, fixed decimals or
+    significant digits, found from the file's text), None for full double precision."""
 
     states: np.ndarray
     energy: np.ndarray | None
     wall_time: float | None
     integrator: str
-    written_digits: int | None = None
+    rounding: Rounding | None = None
+
+
+OTHER = "other:"   # INTEGRATOR = "other:ode23": an integrator the harness does not know, on purpose
+
+
+def declared_integrator(value, where: str, scene: Scene) -> str:
+    """The integrator a simulator declares (`where` names the field): one the harness knows,
+    "other:NAME" on purpose, or None for the scene's. Anything else is bad input naming the
+    closest known name: a misspelling must not turn the integrator's checks off."""
+    if value is None:
+        return scene.integrator
+    if not isinstance(value, str):
+        raise UserCodeError(f"{where}: expected a string naming an integrator, got {value!r}")
+    if value in INTEGRATORS or (value.startswith(OTHER) and value[len(OTHER):].strip()):
+        return value
+    spelled = value.strip().lower().replace("-", "_").replace(" ", "_")
+    close = difflib.get_close_matches(spelled, list(INTEGRATORS), n=1, cutoff=0.5)
+    hint = f"; the closest is {close[0]!r}" if close else ""
+    raise UserCodeError(f"{where} = {value!r}: not an integrator the harness knows (expected one of "
+                        f"{', '.join(INTEGRATORS)}, or \"{OTHER}NAME\" for one it does not know, e.g. "
+                        f"\"{OTHER}ode23\"{hint})")
+
+
+def known_integrator(integrator: str | None) -> bool:
+    """Whether the harness can step this integrator itself (step, identical, dynamics)."""
+    return integrator in INTEGRATORS
 
 
 def _first_bad_row(states: np.ndarray) -> int:
@@ -73,9 +102,21 @@ class _Simulator:
         self._scene = scene
         return self._run(scene)
 
-    def diagnose(self, scene: Scene, trajectory) -> dict:
-        """diagnosis(self, scene, trajectory.states()): see compare/usersim/diagnosis.py."""
+    def diagnose(self, scene: Scene, trajectory, probe: bool = True) -> dict:
+        """diagnosis(self, scene, trajectory.states()): see compare/usersim/diagnosis.py.
+        probe False: the step is not called from chosen states (it keeps state between calls,
+        so an answer out of order would not be the one its run used): the trajectory alone."""
         from .diagnosis import diagnosis
-        return diagnosis(self, scene, trajectory.states())
+        return diagnosis(self if probe else _TrajectoryOnly(self), scene, trajectory.states(),
+                         trajectory.meta.get("rounding"))
+
+
+class _TrajectoryOnly:
+    """A simulator seen by the diagnosis without its step function."""
+
+    kind = "trajectory only"
+
+    def __init__(self, simulator):
+        self.integrator_for = simulator.integrator_for
 
 

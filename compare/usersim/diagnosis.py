@@ -11,8 +11,14 @@ the catalogue of known mistakes (compare/verdict/mistakes.py):
                  residual leaves round-off, its phase and component, and which mistake (or pair)
                  explains every step.
 
-Neither guesses: where no catalogued mistake explains the residual to round-off, it says so and
-shows the residual.
+A moment is probed only where the effect it exercises acts (moments.py); the effects no moment
+could probe are listed. The first probed moment (or step) off round-off is also given as the
+force that makes it, m dv / dt and I domega / dt, at the points touching.
+
+Neither guesses: a catalogued mistake is named only where it reproduces every probed step (every
+chosen moment and every step of the trajectory) to round-off; one that explains all but N of M
+steps is reported as such, not named. Where none explains the residual to round-off, it says
+so and shows the residual, in its units and in newtons.
 """
 from __future__ import annotations
 
@@ -23,33 +29,83 @@ import numpy as np
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged, simulate
 
 from ..verdict import mistakes
-from .errors import UserCodeError
-from .moments import pick_moments
+from .errors import UserCodeError, UserFault
+from .moments import not_probed, pick_moments
 from .scene_dict import scene_dict
 
+# At most this many mistakes that explain all steps but some are listed in the verdict line
+# (all of them are in the dict and the markdown table).
+VERDICT_NOT_NAMED = 3
 
-def _moments(simulator, scene: Scene, integrator: str) -> dict:
-    """The user's step from custom_sim's states at the chosen moments."""
+
+def _moments(simulator, scene: Scene, integrator: str, also=()) -> dict:
+    """The user's step from custom_sim's states at the chosen moments, in time order; `also`:
+    mistakes whose reproduction of every moment is wanted (the trajectory's explanation)."""
     run_scene = scene if integrator == scene.integrator or integrator not in INTEGRATORS \
         else dataclasses.replace(scene, integrator=integrator)
     try:
         ours = simulate(run_scene).states()
     except SimulationDiverged as exc:
         return {"verdict": f"not diagnosed: custom_sim diverges on this scene ({exc})", "moments": []}
-    picked = pick_moments(run_scene, ours)
+    picked = sorted(pick_moments(run_scene, ours), key=lambda m: m.row)
+    gaps = not_probed(run_scene, picked)
     sd = scene_dict(scene)
+    numbers = iter([m.row + 1 for m in picked])
 
     def step(z, _scene_dict, dt):
-        return simulator.call(z, sd, dt)
+        return simulator.call(z, sd, dt, next(numbers))
     try:
         out = mistakes.diagnose_step(step, scene, [(m.kind, ours[m.row]) for m in picked],
-                                     integrator, scene.dt, sd)
-    except UserCodeError as exc:
+                                     integrator, scene.dt, sd, also=also)
+    except (UserCodeError, UserFault) as exc:
         return {"verdict": f"not diagnosed: the step function failed at a chosen moment: {exc}",
-                "moments": [], "details": exc.details}
+                "moments": [], "details": getattr(exc, "details", ""), "not_probed": gaps}
     for m, entry in zip(picked, out["moments"]):
         entry.update(step=m.row + 1, time=(m.row + 1) * scene.dt, what=m.what)
+        if out.get("force") and out["force"]["where"] == m.kind:
+            out["force"].update(step=m.row + 1, time=(m.row + 1) * scene.dt)
+    out["not_probed"] = gaps
     return out
+
+
+def _decide(traj: dict, moments: dict | None, scene: Scene, states, integrator: str):
+    """(named, not_named): the candidates that reproduce every probed step (every chosen moment
+    and every step of the trajectory), and those that explain all but some, with how many."""
+    probed = bool(moments and moments.get("moments"))
+    judged = traj.get("step", {}).get("pass") is not None
+    by_traj = list(traj.get("explained_by", []))
+    reach = {x["name"]: x for x in (moments or {}).get("mistakes", [])} if probed else {}
+    candidates = by_traj + [n for n in ((moments or {}).get("explained_by", []) if probed else [])
+                            if n not in by_traj]
+    named, not_named = [], []
+    for name in candidates:
+        # diagnose_step reports every name it was asked about (`also`) and every explanation
+        x = reach.get(name, {"reproduces": 0, "of": 0, "not_at": []})
+        if probed and x["reproduces"] < x["of"]:
+            off = x["of"] - x["reproduces"]
+            not_named.append({"name": name, "steps_off": off, "steps": x["of"], "where": "moments",
+                              "text": f"{name} explains every step of your trajectory but not your step at "
+                                      f"{', '.join(x['not_at'])} ({off} of {x['of']} chosen moments); not named"})
+            continue
+        if name not in by_traj and judged:
+            t = mistakes.explains_trajectory(name, scene, states, integrator, scene.dt)
+            if not t["explains"]:
+                not_named.append({"name": name, "steps_off": t["steps_off"], "steps": t["steps"],
+                                  "where": "trajectory",
+                                  "text": f"{name} reproduces your step at every chosen moment but explains all "
+                                          f"but {t['steps_off']} of {t['steps']} steps of your trajectory; not named"})
+                continue
+        named.append(name)
+    if not named:
+        seen = {n["name"] for n in not_named}
+        for route, near in (("trajectory", traj.get("not_named", [])), ("moments", (moments or {}).get("not_named", []))):
+            for t in near:
+                if t["name"] not in seen:
+                    seen.add(t["name"])
+                    where = " of your trajectory" if route == "trajectory" else " (chosen moments)"
+                    not_named.append({"name": t["name"], "steps_off": t["steps_off"], "steps": t["steps"],
+                                      "where": route, "text": mistakes.not_named_text([t], where)})
+    return named, ([] if named else not_named)
 
 
 def _named(*explained: list[str]) -> list[dict]:
@@ -64,37 +120,66 @@ def _named(*explained: list[str]) -> list[dict]:
              "description": mistakes.BY_NAME[n].description} for n in names]
 
 
-def diagnosis(simulator, scene: Scene, states: np.ndarray) -> dict:
+def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None) -> dict:
     """The diagnosis of the user's run `states` (steps + 1, 6) of `scene` (JSON-safe dict):
 
     integrator    the one the simulator names
     moments       step functions only: {"moments": [{name, what, step, time, phase, agrees,
-                  component, residual {x..omega}, ratio_max, explained_by}], "disagree",
-                  "explained_by", "verdict"}; None otherwise
-    trajectory    {"step": the step check's row, "explained_by", "mistakes" tried, "verdict"}
-    named         [{name, seed_line, description}]: every catalogued mistake that explains
-                  what was seen (the trajectory's explanation first; the moments' if it has none)
+                  component, residual {x..omega}, difference (signed), ratio_max, explained_by,
+                  force}], "disagree", "steps", "explained_by", "mistakes", "not_named",
+                  "not_probed" [{name, effect, why}], "force", "verdict"}; None otherwise
+    trajectory    {"step": the step check's row, "explained_by", "mistakes" tried, "not_named",
+                  "force", "verdict"}
+    named         [{name, seed_line, description}]: every catalogued mistake (pairs split) that
+                  reproduces every probed step: every chosen moment and every trajectory step
+    not_named     [{name, steps_off, steps, where, text}]: mistakes that explain all but some
+    force         the first probed moment (or, without one, trajectory step) off round-off as
+                  a force: {where, off, Fx, Fy (N), torque (N m), points [{point, arm, depth}],
+                  text}, or None
     verdict       one line
     """
     integrator = simulator.integrator_for(scene)
     states = np.asarray(states, dtype=float)
-    traj = mistakes.diagnose(scene, states, integrator, scene.dt)
-    moments = _moments(simulator, scene, integrator) if getattr(simulator, "kind", "") == "step" else None
-    by_traj = traj.get("explained_by", [])
-    by_moments = (moments or {}).get("explained_by", [])
-    named = _named(by_traj) if by_traj else _named(by_moments)
+    traj = mistakes.diagnose(scene, states, integrator, scene.dt, input_rtol=rounding or 0.0)
+    moments = (_moments(simulator, scene, integrator, also=traj.get("explained_by", []))
+               if getattr(simulator, "kind", "") == "step" else None)
+    names, not_named = _decide(traj, moments, scene, states, integrator)
+    named = _named(names)
     step_row = traj.get("step", {})
-    if step_row.get("pass") is True and not (moments and moments.get("disagree")):
-        verdict = "every step agrees with the reference step to round-off: nothing to explain"
+    disagree = bool(moments and moments.get("disagree"))
+    force = (moments or {}).get("force") if disagree else traj.get("force")
+    gaps = (moments or {}).get("not_probed", [])
+    gap_text = ("; could not be probed: " + "; ".join(f"{g['name']} ({g['effect']}: {g['why']})" for g in gaps)
+                if gaps else "")
+    if step_row.get("pass") is True and not disagree:
+        verdict = "every step agrees with the reference step to round-off: nothing to explain" + gap_text
     elif named:
         verdict = "explained by " + "; ".join(f"{n['name']} ({n['seed_line']})" for n in named)
-    elif step_row.get("pass") is None:
+    elif step_row.get("pass") is None and not disagree:
         verdict = traj.get("verdict", "not diagnosed")
     else:
-        verdict = ("no catalogued mistake explains the residual to round-off: "
-                   + traj.get("verdict", ""))
+        parts = []
+        if force:
+            at = (f"at {force['where']} (step {force['step']}, t = {force['time']:.6g} s)"
+                  if "step" in force and force["where"] != f"step {force['step']}" else f"at {force['where']}")
+            parts.append(f"{at} your step is off by {force['off']}: a force of {force['text']}")
+        if step_row.get("pass") is False:
+            parts.append("your trajectory: " + _trajectory_where(step_row))
+        parts += [n["text"] for n in not_named[:VERDICT_NOT_NAMED]]
+        verdict = "no catalogued mistake explains the residual to round-off: " + "; ".join(parts)
     return {"integrator": integrator, "moments": moments, "trajectory": traj, "named": named,
-            "verdict": verdict}
+            "not_named": not_named, "force": force, "verdict": verdict}
+
+
+def _trajectory_where(row: dict) -> str:
+    """The step check's first failing step and largest residual, in one clause."""
+    if row.get("first_step") is None:
+        where = f"state {row.get('nonfinite_step')} is not finite"
+    else:
+        where = (f"first step over round-off {row['first_step']} (t = {row['first_time']:.6g} s), "
+                 f"{row['phase']}, component {row['component']}")
+    return (f"{where}, largest residual {row['position_error_max']:.3g} m, "
+            f"{row['angle_error_max']:.3g} rad")
 
 
 def _fmt(v) -> str:
@@ -106,6 +191,23 @@ def diagnosis_markdown(diag: dict) -> str:
     return render_markdown(diag, heading=False)
 
 
+def _force_rows(diag: dict) -> list[tuple[str, dict]]:
+    """(where, force) of every disagreeing moment, then the trajectory's first failing step."""
+    rows = [(f"{e['name']} (step {e.get('step', '')})", {**e["force"], "off": mistakes.off_text(e)})
+            for e in (diag.get("moments") or {}).get("moments", []) if e.get("force")]
+    t = diag["trajectory"].get("force")
+    if t:
+        rows.append((f"{t['where']} of your trajectory", t))
+    return rows
+
+
+def _acting_at(f: dict) -> str:
+    pts = [str(p["point"]) for p in f["points"]]
+    if not pts:
+        return "no point touching"
+    return f"point {pts[0]}" if len(pts) == 1 else f"points {', '.join(pts)} (shared)"
+
+
 def render_markdown(diag: dict, heading: bool = True) -> str:
     """The report's "Diagnosis" section (markdown)."""
     lines = (["## Diagnosis", ""] if heading else []) + [f"**{diag['verdict']}**", ""]
@@ -113,9 +215,29 @@ def render_markdown(diag: dict, heading: bool = True) -> str:
         lines += ["| mistake | seed line | what it does |", "|---|---|---|"]
         lines += [f"| `{n['name']}` | {n['seed_line']} | {n['description']} |" for n in diag["named"]]
         lines.append("")
+    if diag.get("not_named"):
+        lines += ["Not named: each explains some steps, not every one (a mistake is named only where it "
+                  "reproduces every probed step to round-off):", "",
+                  "| mistake | steps it does not explain | of | where |", "|---|---|---|---|"]
+        lines += [f"| `{n['name']}` | {_fmt(n['steps_off'])} | {_fmt(n['steps'])} | "
+                  f"{'your trajectory' if n['where'] == 'trajectory' else 'chosen moments'} |"
+                  for n in diag["not_named"]]
+        lines.append("")
+    forces = _force_rows(diag)
+    if forces:
+        lines += ["Your step minus the reference step, as the force that makes it (m dv / dt, I domega / dt; "
+                  f"dt = {_fmt(forces[0][1]['dt'])} s, m = {_fmt(forces[0][1]['mass'])} kg):", "",
+                  "| where | off by | Fx (N) | Fy (N) | torque (N m) | acting at |", "|---|---|---|---|---|---|"]
+        lines += [f"| {where} | {f.get('off', '')} | {f['Fx']:.3g} | {f['Fy']:.3g} | {_fmt(f['torque'])} | "
+                  f"{_acting_at(f)} |" for where, f in forces]
+        lines.append("")
     m = diag.get("moments")
     if m is not None:
         lines += ["### Your step from chosen moments of custom_sim's run", "", m.get("verdict", ""), ""]
+        if m.get("not_probed"):
+            lines += ["Effects that could not be probed (no state of custom_sim's run has them acting):", ""]
+            lines += [f"- {g['name']}: {g['effect']}; {g['why']}" for g in m["not_probed"]]
+            lines.append("")
         if m.get("moments"):
             lines += ["| moment | step | what | agrees | component | largest residual / round-off | explained by |",
                       "|---|---|---|---|---|---|---|"]

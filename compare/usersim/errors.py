@@ -25,6 +25,21 @@ class UserCodeError(BadInput):
         self.details = details
 
 
+class UserFault(Exception):
+    """A fault of the user's code in one scene (it raised, returned NaN, blew up): that scene's
+    error row, the others still judged. `details`: the user's own traceback, if any."""
+
+    def __init__(self, message, details: str = ""):
+        if isinstance(message, UserCodeError):
+            message, details = str(message), message.details
+        super().__init__(message)
+        self.details = details
+
+
+class UserDiverged(UserFault):
+    """The user's run left the healthy range (custom_sim's blow-up test): the scene is unstable."""
+
+
 def _own_frame(filename: str) -> bool:
     try:
         path = str(Path(filename).resolve())

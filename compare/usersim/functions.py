@@ -4,7 +4,18 @@
     --sim MODULE:FUNCTION --whole   simulate(scene) -> array (steps + 1, 6)   WholeFunction
 
 MODULE is a dotted module name (importable from the current folder) or a path to a .py file.
-A module-level INTEGRATOR (a string) names the integrator it implements (default: the scene's).
+A module-level INTEGRATOR (a string) names the integrator it implements (default: the scene's;
+"other:NAME" for one the harness does not know).
+
+The protocol, as the harness keeps it:
+1. every run starts from a fresh copy of the module (its top level executed again), so no
+   state is carried from one scene, or one run, to the next;
+2. the step is called once per step, in order, from the t = 0 state, each time with a fresh
+   float64 array holding the state it returned last (never an object it can keep);
+3. it must return 6 real numbers (a sequence or a (6,) array); anything else is bad input
+   naming the step and what came back;
+4. an exception, a NaN or a state that blows up is that scene's fault: its row says the step
+   and the state, and the other scenes are judged.
 """
 from __future__ import annotations
 
@@ -12,6 +23,8 @@ import importlib
 import importlib.util
 import sys
 import time
+import warnings
+from numbers import Real
 from pathlib import Path
 
 import numpy as np
@@ -19,49 +32,84 @@ import numpy as np
 from custom_sim import Scene
 from custom_sim.model import initial_state
 
-from .base import STATE, UserRun, _check_initial, _first_bad_row, _Simulator, _state_text
-from .errors import UserCodeError, raised
+from . import progress
+from .base import STATE, UserRun, _check_initial, _first_bad_row, _Simulator, _state_text, declared_integrator
+from .errors import UserCodeError, UserFault, raised
+from .guard import user_code
 from .scene_dict import scene_dict
+
+_SIX = (6,)
+_F64 = np.dtype(np.float64)
+# What a step's return is checked against on the fast path (anything else takes as_state's):
+_SEQUENCES = {list, tuple}
+_REALS = {float, int, np.float64}
+# Steps between two progress reports are chosen so that a report comes about this often (s):
+# often enough for a user to see a slow step move, rare enough to cost nothing per step.
+REPORT_EVERY = 0.25
+
+
+def _module_path(module: str) -> Path | None:
+    return Path(module) if module.endswith(".py") or "/" in module or "\\" in module else None
+
+
+def _execute(name: str, spec, where: str):
+    """A new module object for spec, its top level run as user code."""
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[name] = mod
+    try:
+        with user_code(where):
+            spec.loader.exec_module(mod)
+    except UserCodeError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - any fault of the user's module
+        sys.modules.pop(name, None)
+        raise raised(where, exc, "a module that imports") from None
+    return mod
 
 
 def _import(module: str):
-    """A dotted module or a path to a .py file; its own import errors are the user's."""
+    """A fresh copy of a dotted module or of a .py file; its own import errors are the user's.
+
+    A file's folder goes first on sys.path while it imports (its siblings import as they would
+    when run there) and stays at the end afterwards, so a step that imports a sibling later
+    still finds it without the folder shadowing the harness's own modules."""
     where = f"--sim {module}"
-    if module.endswith(".py") or "/" in module or "\\" in module:
-        path = Path(module)
+    path = _module_path(module)
+    if path is not None:
         if not path.is_file():
             raise UserCodeError(f"{where}: no such file (expected a path to a .py file or a dotted module name)")
-        name = "usersim_" + "".join(ch if ch.isalnum() else "_" for ch in str(path.resolve()))
-        if name in sys.modules:
-            return sys.modules[name]
+        path = path.resolve()
+        name = "usersim_" + "".join(ch if ch.isalnum() else "_" for ch in str(path))
         spec = importlib.util.spec_from_file_location(name, path)
-        mod = importlib.util.module_from_spec(spec)
-        folder = str(path.resolve().parent)
-        sys.path.insert(0, folder)  # its sibling modules import as they would when run there
+        folder = str(path.parent)
+        sys.path.insert(0, folder)
         try:
-            sys.modules[name] = mod
-            spec.loader.exec_module(mod)
-        except Exception as exc:  # noqa: BLE001 - any fault of the user's module
-            sys.modules.pop(name, None)
-            raise raised(f"{where}: importing {path}", exc, "a module that imports") from None
+            return _execute(name, spec, f"{where}: importing {path}")
         finally:
             sys.path.remove(folder)
-        return mod
+            if folder not in sys.path:
+                sys.path.append(folder)
     if "." not in sys.path and "" not in sys.path:
         sys.path.append(".")
     try:
-        return importlib.import_module(module)
+        with user_code(f"{where}: importing {module}"):
+            spec = importlib.util.find_spec(module)
     except ModuleNotFoundError as exc:
-        if exc.name and module.startswith(exc.name):
-            raise UserCodeError(f"{where}: no module named {exc.name!r} (expected a dotted module importable "
-                                "from the current folder, or a path to a .py file)") from None
+        spec, missing = None, exc.name
+    except UserCodeError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - a parent package that fails to import
         raise raised(f"{where}: importing {module}", exc, "a module that imports") from None
-    except Exception as exc:  # noqa: BLE001
-        raise raised(f"{where}: importing {module}", exc, "a module that imports") from None
+    else:
+        missing = module
+    if spec is None:
+        raise UserCodeError(f"{where}: no module named {missing!r} (expected a dotted module importable "
+                            "from the current folder, or a path to a .py file)")
+    return _execute(module, spec, f"{where}: importing {module}")
 
 
 def load_function(spec: str, signature: str):
-    """The callable named by MODULE:FUNCTION, and its module."""
+    """The callable named by MODULE:FUNCTION, and its module (freshly imported)."""
     module, sep, func = spec.rpartition(":")
     if not sep or not module or not func:
         raise UserCodeError(f"--sim {spec}: expected MODULE:FUNCTION naming {signature}")
@@ -76,36 +124,38 @@ def load_function(spec: str, signature: str):
     return fn, mod
 
 
-def _declared_integrator(mod, scene: Scene) -> str:
-    value = getattr(mod, "INTEGRATOR", None)
+def _describe(value) -> str:
+    """What came back, in a few words: `a float 0.3`, `an array of shape (1, 6)`, `None`."""
     if value is None:
-        return scene.integrator
-    if not isinstance(value, str):
-        raise UserCodeError(f"{mod.__name__}.INTEGRATOR: expected a string naming an integrator, got {value!r}")
-    return value
+        return "None (did the function forget to return the state?)"
+    if isinstance(value, np.ndarray):
+        return f"an array of shape {value.shape} and dtype {value.dtype}"
+    if isinstance(value, (list, tuple)):
+        return f"a {type(value).__name__} of {len(value)} items"
+    text = repr(value)
+    return f"a {type(value).__name__} {text[:40]}"
 
 
-def _as_state(value, where: str, step: int) -> np.ndarray:
-    """A returned state checked: 6 finite floats."""
-    try:
-        z = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise UserCodeError(f"{where} returned {type(value).__name__} at step {step} "
-                            f"(expected 6 numbers {STATE})") from None
-    if z.shape != (6,):
-        raise UserCodeError(f"{where} returned shape {z.shape} at step {step} (expected shape (6,): {STATE})")
-    if not np.all(np.isfinite(z)):
-        raise UserCodeError(f"{where} returned a non-finite state {z.tolist()} at step {step} "
-                            f"(expected 6 finite numbers {STATE})")
-    return z
+def as_state(value, where: str) -> tuple[np.ndarray, bool]:
+    """A returned value as a state (6,) float64, and whether it came as float32. Anything but 6
+    real numbers is bad input naming `where` and what came back (never broadcast, never cut)."""
+    if isinstance(value, np.ndarray):
+        ok = value.shape == _SIX and value.dtype.kind in "fiu"
+        if ok:
+            return value.astype(float), value.dtype == np.float32
+    elif isinstance(value, (list, tuple)) and len(value) == 6:
+        bad = [j for j, v in enumerate(value) if isinstance(v, (bool, np.bool_)) or not isinstance(v, Real)]
+        if not bad:
+            return np.array(value, dtype=float), any(isinstance(v, np.float32) for v in value)
+        j = bad[0]
+        raise UserCodeError(f"{where} returned a {type(value).__name__} whose item {j} is "
+                            f"{_describe(value[j])} (expected 6 real numbers {STATE})")
+    raise UserCodeError(f"{where} returned {_describe(value)} (expected 6 real numbers {STATE}: "
+                        "a list, a tuple or an array of shape (6,))")
 
 
 class StepFunction(_Simulator):
-    """`step(state, scene, dt) -> state`, called in a plain Python loop.
-
-    The first call gets a numpy array (float, length 6); each later call gets what the previous
-    one returned (a numpy array or a list of 6 numbers), so the harness adds only a call and a
-    copy per step (python -m compare.usersim.overhead measures it)."""
+    """`step(state, scene, dt) -> state`, called in a plain Python loop (see the module's protocol)."""
 
     kind = "step"
 
@@ -113,70 +163,81 @@ class StepFunction(_Simulator):
         self.spec = spec
         self.function, self.module = load_function(spec, "step(state, scene, dt) -> state")
         self.label = spec
+        self.float32 = False
 
-    def __reduce__(self):  # a process pool re-imports it by name
+    def __reduce__(self):  # another process imports it by name
         return (StepFunction, (self.spec,))
 
     def integrator_for(self, scene: Scene) -> str:
-        return _declared_integrator(self.module, scene)
+        return declared_integrator(getattr(self.module, "INTEGRATOR", None), f"{self.spec}: INTEGRATOR", scene)
+
+    def fresh(self) -> None:
+        """Import the module again: a new module state, as at the start of a run."""
+        self.function, self.module = load_function(self.spec, "step(state, scene, dt) -> state")
 
     def call(self, state, scene_d: dict, dt: float, step: int = 1) -> np.ndarray:
-        """One checked call from `state` (the diagnosis's probe)."""
+        """One checked call from a copy of `state` (the diagnosis's probe)."""
+        where = f"{self.spec} at step {step}"
         try:
-            out = self.function(np.array(state, dtype=float), scene_d, dt)
+            with user_code(where):
+                out = self.function(np.array(state, dtype=float), scene_d, dt)
+        except UserCodeError:
+            raise
         except Exception as exc:  # noqa: BLE001
-            raise raised(f"{self.spec} at step {step}", exc, f"a state {STATE}") from None
-        self._first_returned = out
-        return _as_state(out, self.spec, step)
+            raise UserFault(raised(where, exc, f"a state {STATE}")) from None
+        return as_state(out, where)[0]
 
     def _run(self, scene: Scene) -> UserRun:
-        n, dt, step = scene.steps, scene.dt, self.function
+        self.fresh()
+        fn, n, dt = self.function, scene.steps, scene.dt
         sd = scene_dict(scene)
         out = np.empty((n + 1, 6))
         out[0] = initial_state(scene)
-        out[1] = self.call(out[0], sd, dt, 1)  # the first call checked in full
-        as_list = isinstance(self._first_returned, (list, tuple))
-        z = list(out[1]) if as_list else out[1].copy()
-        i = 1
-        start = time.perf_counter()
+        i, chunk, start = 1, 1, time.perf_counter()
+        progress.started(n)
+        where = f"{self.spec} at step"
         try:
-            if as_list:
-                # a step returning a list: its numbers appended flat (a list copies floats,
-                # so a list changed in place later cannot corrupt the rows), one array at the end
-                flat = []
-                append = flat.extend
-                for i in range(2, n + 1):
-                    z = step(z, sd, dt)
-                    append(z)
-            else:
-                # the harness's whole cost per step: one call and one row copied
-                for i in range(2, n + 1):
-                    z = step(z, sd, dt)
-                    out[i] = z
-        except Exception as exc:  # noqa: BLE001
-            if exc.__traceback__.tb_next is None:  # raised by our own line: not a state
-                _as_state(z, self.spec, i)
-                raise UserCodeError(f"{self.spec} returned {type(z).__name__} at step {i} "
-                                    f"(expected 6 numbers {STATE})") from None
-            raise raised(f"{self.spec} at step {i} (t = {i * dt:.6g} s, from state "
-                         f"{_state_text(out[i - 1] if not as_list else z)})", exc, f"a state {STATE}") from None
-        if as_list and n > 1:
-            if len(flat) != 6 * (n - 1):
-                raise UserCodeError(f"{self.spec} returned a list of 6 numbers at step 1 but of another length at a "
-                                    f"later step ({len(flat)} numbers over {n - 1} steps; expected 6 numbers {STATE} "
-                                    "every step; note that from step 2 on it is given back the list it returned)")
-            try:
-                out[2:] = np.fromiter(flat, dtype=float, count=len(flat)).reshape(n - 1, 6)
-            except (TypeError, ValueError):
-                raise UserCodeError(f"{self.spec} returned a list holding something other than numbers after "
-                                    f"step 1 (expected 6 numbers {STATE} every step)") from None
+            with user_code(lambda: f"{where} {i}"):
+                while i <= n:
+                    first, end, t0 = i, min(n, i + chunk - 1), time.perf_counter()
+                    for i in range(first, end + 1):
+                        z = fn(out[i - 1].copy(), sd, dt)
+                        if z.__class__ is np.ndarray:
+                            if z.shape != _SIX or z.dtype is not _F64:
+                                z = self._accept(z, f"{where} {i}")
+                        elif z.__class__ not in _SEQUENCES or len(z) != 6 or not _REALS.issuperset(map(type, z)):
+                            z = self._accept(z, f"{where} {i}")
+                        out[i] = z
+                    progress.reached(end)
+                    per_step = (time.perf_counter() - t0) / (end - first + 1)
+                    chunk = int(min(4 * chunk, max(1.0, REPORT_EVERY / max(per_step, 1e-9))))
+                    i = end + 1
+        except UserCodeError:
+            raise
+        except Exception as exc:  # noqa: BLE001 - the scene's fault: its row names the step
+            bad = _first_bad_row(out[:i])
+            if bad >= 0:  # it failed on a non-finite state it returned before: name that one
+                raise _non_finite(self.spec, out, bad, dt) from None
+            raise UserFault(raised(f"{self.spec} at step {i} (t = {i * dt:.6g} s, from state "
+                                   f"{_state_text(out[i - 1])})", exc, f"a state {STATE}")) from None
         wall = time.perf_counter() - start
         bad = _first_bad_row(out)
         if bad >= 0:
-            raise UserCodeError(f"{self.spec} returned a non-finite state {_state_text(out[bad])} at step {bad} "
-                                f"(t = {bad * dt:.6g} s) from {_state_text(out[bad - 1])} "
-                                f"(expected 6 finite numbers {STATE})")
+            raise _non_finite(self.spec, out, bad, dt)
         return UserRun(out, None, wall, self.integrator_for(scene))
+
+    def _accept(self, z, where: str) -> np.ndarray:
+        state, single = as_state(z, where)
+        if single and not self.float32:
+            self.float32 = True
+            warnings.warn(f"{self.spec} returns float32 numbers: about 7 significant digits, so `identical` "
+                          "(round-off of double precision) cannot pass; return float64", UserWarning, stacklevel=2)
+        return state
+
+
+def _non_finite(spec: str, out: np.ndarray, row: int, dt: float) -> UserFault:
+    return UserFault(f"{spec} returned a non-finite state {_state_text(out[row])} at step {row} "
+                     f"(t = {row * dt:.6g} s) from {_state_text(out[row - 1])} (expected 6 finite numbers {STATE})")
 
 
 class WholeFunction(_Simulator):
@@ -193,31 +254,37 @@ class WholeFunction(_Simulator):
         return (WholeFunction, (self.spec,))
 
     def integrator_for(self, scene: Scene) -> str:
-        return _declared_integrator(self.module, scene)
+        return declared_integrator(getattr(self.module, "INTEGRATOR", None), f"{self.spec}: INTEGRATOR", scene)
 
     def _run(self, scene: Scene) -> UserRun:
+        self.function, self.module = load_function(self.spec, "simulate(scene) -> array (steps + 1, 6)")
         n = scene.steps
+        where = f"{self.spec} on scene {scene.name}"
         start = time.perf_counter()
         try:
-            value = self.function(scene_dict(scene))
+            with user_code(where):
+                value = self.function(scene_dict(scene))
+        except UserCodeError:
+            raise
         except Exception as exc:  # noqa: BLE001
-            raise raised(f"{self.spec} on scene {scene.name}", exc, f"an array ({n + 1}, 6)") from None
+            raise UserFault(raised(where, exc, f"an array ({n + 1}, 6)")) from None
         wall = time.perf_counter() - start
+        if isinstance(value, np.ndarray) and value.dtype.kind not in "fiu" or value is None:
+            raise UserCodeError(f"{where} returned {_describe(value)} "
+                                f"(expected an array ({n + 1}, 6) of real rows {STATE})")
         try:
             data = np.asarray(value, dtype=float)
         except (TypeError, ValueError):
-            raise UserCodeError(f"{self.spec} returned {type(value).__name__} on scene {scene.name} "
-                                f"(expected an array ({n + 1}, 6) of rows {STATE})") from None
+            raise UserCodeError(f"{where} returned {_describe(value)} "
+                                f"(expected an array ({n + 1}, 6) of real rows {STATE})") from None
         if data.ndim != 2 or data.shape[0] != n + 1 or data.shape[1] not in (6, 7):
-            raise UserCodeError(f"{self.spec} returned shape {data.shape} on scene {scene.name} "
+            raise UserCodeError(f"{where} returned shape {data.shape} "
                                 f"(expected ({n + 1}, 6): the t = 0 row, then one row per step of {STATE}; "
                                 "a 7th column may hold the energy)")
         bad = _first_bad_row(data)
         if bad >= 0:
-            raise UserCodeError(f"{self.spec} returned a non-finite row {bad} (t = {bad * scene.dt:.6g} s) "
-                                f"on scene {scene.name}: {_state_text(data[bad])} (expected finite numbers)")
-        _check_initial(data[0, :6], scene, f"{self.spec} on scene {scene.name}: row 0")
+            raise UserFault(f"{where} returned a non-finite row {bad} (t = {bad * scene.dt:.6g} s): "
+                            f"{_state_text(data[bad])} (expected finite numbers)")
+        _check_initial(data[0, :6], scene, f"{where}: row 0")
         energy = data[:, 6].copy() if data.shape[1] == 7 else None
         return UserRun(np.ascontiguousarray(data[:, :6]), energy, wall, self.integrator_for(scene))
-
-

@@ -11,33 +11,30 @@ integrator it implements in a module-level INTEGRATOR (a string; default: the sc
 --whole function may return a 7th column, the energy (J). A folder of trajectories may hold a
 simulator.toml with `integrator = "..."`.
 
-Every fault is a UserCodeError (bad input, exit 2) naming the function or the file (row,
-column), what was wrong and what was expected.
+A fault of the protocol (a module that does not import, a wrong return, a misspelled
+INTEGRATOR, ending the process) is a UserCodeError: bad input, exit 2, naming the function or
+the file (row, column), what was wrong and what was expected. A fault of one scene's run (an
+exception, a NaN, a blow-up) is a UserFault: that scene's error row.
 """
 from __future__ import annotations
 
-from custom_sim.model import initial_state
-
 from .base import UserRun
-from .csv_files import TrajectoryFiles, written_digits
+from .csv_files import TrajectoryFiles
 from .errors import UserCodeError
 from .functions import StepFunction, WholeFunction
-from .scene_dict import scene_dict
-
 __all__ = ["StepFunction", "TrajectoryFiles", "UserRun", "WholeFunction", "for_run", "from_args",
-           "load_simulator", "preflight", "written_digits"]
+           "load_simulator", "preflight"]
 
 
 def preflight(simulator, scenes) -> None:
-    """Find bad input before anything is written: every scene's CSV read and checked; a step
-    function called once from each scene's initial state. (A fault later in a run is still
-    raised by run_user; a whole-run function is only checked by running it.)"""
+    """Find bad input before any scene runs, without calling the user's code (a call here would
+    leave its module in another state than the one each scene starts from): the integrator it
+    declares for every scene, and every scene's CSV read and checked. A function's faults show
+    when its scene runs (a wrong return is still bad input: nothing is written)."""
     for scene in scenes:
+        simulator.integrator_for(scene)
         if simulator.kind == "trajectories":
             simulator.run(scene)
-        elif simulator.kind == "step":
-            simulator.call(initial_state(scene), scene_dict(scene), scene.dt, 1)
-        simulator.integrator_for(scene)
 
 
 def for_run(args, scenes):

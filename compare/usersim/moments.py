@@ -1,15 +1,21 @@
 """Moments worth probing a step function at, picked from custom_sim's run of the scene.
 
-Each kind of moment exercises different lines of the seed's algorithm:
+Each kind of moment exercises different lines of the seed's algorithm, and is picked only where
+that effect acts (a force changing the step by ACTIVE_ROUNDOFFS round-offs at least): a state
+where it does not act would agree with any simulator, and prove nothing.
 
     flight       gravity alone (and free spin): the integrator, the mass
-    touchdown    the first state with a point below the ground: the normal force, its damper
-    sliding      a touching point slipping while the body turns: friction on the slip velocity
-                 v + omega x r, the torque r x F, the inertia
-    rolling      the circle touching with |slip| <= 1/alpha and spinning: rolling resistance
-    resting      touching, the slowest state: the balance of weight and contact force
+    touchdown    the first state after a flight with a contact force: the normal force, its damper
+    rebound      a loaded point leaving the ground (normal velocity up): the damping law, where
+                 compression-only, linear and unclamped damping differ
+    sliding      a loaded point slipping beyond 1/alpha while the body turns: friction on the
+                 slip velocity v + omega x r, the torque r x F, the inertia
+    rolling      the circle under load with |slip| <= 1/alpha and spinning: rolling resistance
+    resting      slow, the ground carrying the weight (RESTING_LOAD), the last such state: the
+                 balance of weight and contact force
 
 A moment is a row index into the run's states; the step probed is the one from that row.
+`not_probed` says which of the scene's effects no state of the run lets a moment probe.
 """
 from __future__ import annotations
 
@@ -17,11 +23,23 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from custom_sim import Scene, mass_properties
-from custom_sim.bodies import contact_points_world
+from compare.accuracy.reference import Equations
+from compare.verdict.mistakes import (RESTING_LOAD, carries_weight, contact_loads, least_acting_force,
+                                      rebound_score)
+from custom_sim import Scene
 
 # A body slower than this (m/s, and rad/s times its size) counts as resting.
 RESTING_SPEED = 1e-2
+
+# What each kind of moment probes (the report's words).
+EFFECTS = {
+    "flight": "gravity and free motion, the integrator",
+    "touchdown": "the normal force and its damper on approach",
+    "rebound": "the damping law while a point leaves the ground",
+    "sliding": "friction on the slip velocity, its torque",
+    "rolling": "rolling under a normal load (rolling resistance)",
+    "resting": "weight against the contact force",
+}
 
 
 @dataclass(frozen=True)
@@ -31,69 +49,96 @@ class Moment:
     what: str      # one line: what the body is doing there
 
 
-def _contact(scene: Scene, states: np.ndarray):
-    """depth (T, n) m and slip velocity (T, n) m/s of every contact point."""
-    props = mass_properties(scene.body)
-    x, y, th, vx, vy, om = states.T
-    px, py = contact_points_world(props, x, y, th)
-    rx, ry = px - x[:, None], py - y[:, None]
-    depth = -py if scene.has("contact") else np.full_like(py, -1.0)
-    slip = vx[:, None] - om[:, None] * ry
-    return depth, slip, rx, ry, props
-
-
 def pick_moments(scene: Scene, states: np.ndarray) -> list[Moment]:
-    """The moments found in custom_sim's states (steps + 1, 6), at most one of each kind."""
+    """The moments found in custom_sim's states (steps + 1, 6), at most one of each kind, each
+    where the effect it probes acts (see the module)."""
     states = np.asarray(states, dtype=float)
     steps = len(states) - 1
-    depth, slip, rx, ry, props = _contact(scene, states[:steps])
+    eq = Equations.from_scene(scene)
+    z = states[:steps]
+    depth, vcy, slip, fn = contact_loads(eq, z)
     touching = depth > 0.0
-    any_touch = touching.any(axis=1)
-    om = states[:steps, 5]
-    size = float(np.max(np.hypot(props.points[:, 0], props.points[:, 1]))) if len(props.points) else 0.0
-    speed = np.hypot(states[:steps, 3], states[:steps, 4]) + np.abs(om) * size
+    least = least_acting_force(eq, z, scene.dt)           # N, per state
+    loaded = touching & (fn > least[:, None])
+    any_touch, any_load = touching.any(axis=1), loaded.any(axis=1)
+    om = z[:, 5]
+    points = np.asarray(eq.points, dtype=float).reshape(-1, 2)
+    size = float(np.max(np.hypot(points[:, 0], points[:, 1]))) if len(points) else 0.0
+    speed = np.hypot(z[:, 3], z[:, 4]) + np.abs(om) * size
     band = 1.0 / scene.contact.alpha if scene.has("friction") else np.inf
     out = []
 
-    flight = np.flatnonzero(~any_touch)
+    flight = np.flatnonzero(~any_touch & ((speed > 0.0) | (eq.g > 0.0)))
     if flight.size:
         # the middle of the first flight: well away from the switches
         first = flight[: np.argmax(np.diff(flight) > 1) + 1] if np.any(np.diff(flight) > 1) else flight
         i = int(first[len(first) // 2])
         out.append(Moment("flight", i, f"in flight at t = {i * scene.dt:.4g} s, omega = {om[i]:.3g} rad/s"))
 
-    touch_rows = np.flatnonzero(any_touch)
-    if touch_rows.size and flight.size and touch_rows[-1] > flight[0]:
-        later = touch_rows[touch_rows > flight[0]]
+    later = np.flatnonzero(any_load & (np.arange(steps) > flight[0])) if flight.size else flight
+    if later.size:
         i = int(later[0])
-        pts = np.flatnonzero(touching[i])
+        pts = np.flatnonzero(loaded[i])
         out.append(Moment("touchdown", i, f"first step in contact after flight, t = {i * scene.dt:.4g} s, "
-                                          f"point {', '.join(map(str, pts))}, vy = {states[i, 4]:.3g} m/s"))
+                                          f"point {', '.join(map(str, pts))}, vy = {z[i, 4]:.3g} m/s, "
+                                          f"Fn {fn[i, pts].sum():.3g} N"))
 
-    if scene.has("friction") and touch_rows.size:
-        fast = touching & (np.abs(slip) > band)
-        lever = np.where(fast, np.abs(om[:, None] * ry), 0.0).max(axis=1)
+    score = rebound_score(eq, depth, vcy, loaded, least)
+    score[[m.row for m in out]] = -1.0   # another state than the moments already picked
+    if score.size and score.max() > 0.0:
+        i = int(np.argmax(score))
+        j = int(np.argmax(np.where(loaded[i] & (vcy[i] > 0.0), vcy[i], -np.inf)))
+        out.append(Moment("rebound", i, f"point {j} leaving the ground at {vcy[i, j]:.3g} m/s, "
+                                        f"{depth[i, j] * 1e3:.3g} mm deep, Fn {fn[i, j]:.3g} N "
+                                        f"(damper c vc_y = {eq.c * vcy[i, j]:.3g} N), t = {i * scene.dt:.4g} s"))
+
+    if scene.has("friction"):
+        # slipping beyond the stiction band under a normal load whose friction acts
+        fast = loaded & (np.abs(slip) > band) & (scene.contact.mu * fn * np.tanh(1.0) > least[:, None])
+        lever = np.where(fast, np.abs(om[:, None] * (-depth - z[:, 1:2])), 0.0).max(axis=1)
         # a corner sliding while the body turns: where friction's velocity and lever matter most
         score = np.where(fast.any(axis=1), lever + 1e-12 * np.abs(slip).max(axis=1), -1.0)
-        score[[m.row for m in out]] = -1.0   # another state than the moments already picked
-        i = int(np.argmax(score))
-        if score[i] >= 0.0:
+        score[[m.row for m in out]] = -1.0
+        i = int(np.argmax(score)) if score.size else 0
+        if score.size and score[i] >= 0.0:
             j = int(np.argmax(np.where(fast[i], np.abs(slip[i]), -1.0)))
-            turning = f" while turning at {om[i]:.3g} rad/s" if props.rotates else ""
-            out.append(Moment("sliding", i, f"point {j} sliding at {slip[i, j]:.3g} m/s{turning}, "
-                                            f"t = {i * scene.dt:.4g} s"))
+            turning = f" while turning at {om[i]:.3g} rad/s" if eq.rotates else ""
+            out.append(Moment("sliding", i, f"point {j} sliding at {slip[i, j]:.3g} m/s{turning} "
+                                            f"under Fn {fn[i, j]:.3g} N, t = {i * scene.dt:.4g} s"))
 
-    if scene.body.shape == "circle" and touch_rows.size:
-        rolling = any_touch & (np.abs(slip[:, 0]) <= band) & (np.abs(om) * size > band)
+    if scene.body.shape == "circle":
+        rolling = any_load & (np.abs(slip[:, 0]) <= band) & (np.abs(om) * size > band)
         rows = np.flatnonzero(rolling)
         if rows.size:
             i = int(rows[len(rows) // 2])
             out.append(Moment("rolling", i, f"rolling at omega = {om[i]:.3g} rad/s, slip {slip[i, 0]:.2g} m/s, "
-                                            f"t = {i * scene.dt:.4g} s"))
+                                            f"Fn {fn[i, 0]:.3g} N, t = {i * scene.dt:.4g} s"))
 
-    resting = np.flatnonzero(any_touch & (speed < RESTING_SPEED))
+    resting = np.flatnonzero(any_load & (speed < RESTING_SPEED) & carries_weight(eq, fn))
     if resting.size:
         i = int(resting[-1])
-        out.append(Moment("resting", i, f"resting on point {', '.join(map(str, np.flatnonzero(touching[i])))}, "
-                                        f"speed {speed[i]:.2g} m/s, t = {i * scene.dt:.4g} s"))
+        out.append(Moment("resting", i, f"resting on point {', '.join(map(str, np.flatnonzero(loaded[i])))}, "
+                                        f"speed {speed[i]:.2g} m/s, Fn {fn[i].sum():.3g} N, t = {i * scene.dt:.4g} s"))
     return out
+
+
+def not_probed(scene: Scene, picked: list[Moment]) -> list[dict]:
+    """The kinds of moment the scene's effects call for that no state of the run offers with
+    the effect acting: [{name, effect, why}] (JSON-safe)."""
+    have = {m.kind for m in picked}
+    band = f"{1.0 / scene.contact.alpha:.3g} m/s" if scene.has("friction") else ""
+    why = {"flight": "the body is never in flight while it moves or feels gravity"}
+    if scene.has("contact"):
+        why["touchdown"] = "no state in contact after a flight carries a contact force above round-off"
+        why["rebound"] = ("the scene has no damper (c = 0): the damping law does not act"
+                          if scene.contact.c <= 0.0 else
+                          "no touching point leaves the ground under a contact force with its damper "
+                          "c vc_y above round-off")
+        if scene.has("friction"):
+            why["sliding"] = (f"no touching point slips faster than the stiction band 1/alpha = {band} "
+                              f"under a normal load")
+        if scene.body.shape == "circle":
+            why["rolling"] = "the disk never rolls (|omega| R > 1/alpha, |slip| <= 1/alpha) under a normal load"
+        why["resting"] = (f"the body never comes to rest (speed < {RESTING_SPEED:g} m/s) with the ground "
+                          f"carrying its weight (to {RESTING_LOAD:.0%})")
+    return [{"name": k, "effect": EFFECTS[k], "why": w} for k, w in why.items() if k not in have]

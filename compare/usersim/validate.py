@@ -6,7 +6,7 @@
 
 Per scene: `identical` (against custom_sim, same integrator and dt, to round-off), `step` (every
 step against one independent step) and the diagnosis. Exit status 0 when every judged check
-passes, 1 otherwise, 2 for bad input. `python -m compare run --sim ...` adds the MuJoCo checks
+passes and at least one was judged, 1 otherwise, 2 for bad input. `python -m compare run --sim ...` adds the MuJoCo checks
 and the report pages.
 """
 from __future__ import annotations
@@ -51,23 +51,36 @@ def _validate(args) -> int:
     from ..verdict.step_check import check_step, split_arrays
     from . import diagnosis, load_simulator, render_markdown, run_user
 
+    from . import UserFault, preflight
+
     sim = load_simulator(args.sim, args.whole, args.trajectories)
     if sim is None:
         raise SystemExit("expected MODULE:FUNCTION or --trajectories DIR")
     scenes = load_all(args.scenes)
-    ok = True
+    preflight(sim, scenes)
+    ok, judged = True, 0
     print(f"{'scene':<16} {'identical':<34} {'step':<34} diagnosis")
     for scene in scenes:
-        traj = run_user(sim, scene)
+        try:
+            traj = run_user(sim, scene)
+        except UserFault as exc:   # this scene's fault: its line, the others still judged
+            ok = False
+            print(f"{scene.name:<16} error: {exc}")
+            if exc.details:
+                print(exc.details, file=sys.stderr)
+            continue
         states = traj.states()
-        same = check_identical(scene, states, traj.integrator, scene.dt, traj.meta["written_digits"])
-        step, _ = split_arrays(check_step(scene, states, traj.integrator, scene.dt))
+        same = check_identical(scene, states, traj.integrator, scene.dt, traj.meta["rounding"])
+        step, _ = split_arrays(check_step(scene, states, traj.integrator, scene.dt, rounding=traj.meta["rounding"]))
         diag = diagnosis(sim, scene, states)
         ok &= same["pass"] is not False and step["pass"] is not False
+        judged += (same["pass"] is not None) + (step["pass"] is not None)
         print(f"{scene.name:<16} {_cell(same):<34} {_cell(step):<34} {diag['verdict']}")
         if args.markdown:
             print("\n" + render_markdown(diag) + "\n")
-    return 0 if ok else 1
+    if not judged:
+        print("nothing judged: no scene had a check this command can judge (see each line)")
+    return 0 if ok and judged else 1
 
 
 if __name__ == "__main__":

@@ -32,6 +32,7 @@ from .tolerance import native_row
 # forces out of their derivatives, and it has no explicit Euler.
 MUJOCO_INTEGRATORS = {"semi_implicit_euler": "Euler", "rk4": "RK4"}
 CUSTOM = "custom_sim"
+SHOWN = ("reference", "native")    # checks that are shown, not judged, by design
 
 
 @dataclass
@@ -52,6 +53,8 @@ class Result:
     simulator: str = CUSTOM                           # name of the simulator under test
     error: str | None = None                          # why no verdict could be reached
     unstable: bool = False                            # the error is a divergence or chatter
+    error_details: str = ""                           # the user's own traceback, where their code raised
+    keeps_state: str | None = None                    # a step function whose answer depends on earlier calls
 
     @property
     def judged(self) -> list[dict]:
@@ -63,12 +66,19 @@ class Result:
 
     @property
     def passed(self) -> bool:
-        return self.error is None and not self.failed
+        """Every judged check passed, and at least one was judged."""
+        return self.error is None and not self.failed and bool(self.judged)
+
+    @property
+    def not_judged(self) -> list[dict]:
+        return [c for c in self.checks if c["pass"] is None and c["name"] not in SHOWN]
 
     @property
     def status(self) -> str:
         if self.error:
             return "unstable" if self.unstable else "error"
+        if not self.judged:
+            return "not judged"
         return "pass" if self.passed else "FAIL"
 
 
@@ -98,11 +108,17 @@ def unstable_row(name: str, integrator: str, why: str) -> dict:
 def run_scenario(scene: Scene, simulator=None) -> Result:
     """Run every check of the scene on custom_sim (simulator None) or on a user's simulator
     (compare.usersim); MuJoCo with every solref mapping beside."""
+    from ..usersim import UserFault
+    from ..usersim.errors import UserDiverged
+
     result = Result(scene)
     try:
         _run(result, simulator)
     except SimulationDiverged as exc:
         result.error, result.unstable = str(exc), True
+    except UserFault as exc:  # the user's code failed on this scene: its row, the others go on
+        result.error, result.error_details = str(exc), exc.details
+        result.unstable = isinstance(exc, UserDiverged)
     return result
 
 
@@ -125,23 +141,26 @@ def _run(result: Result, simulator) -> None:
         tested = {name: run for name, run in result.runs.items()}
     else:
         from ..usersim import run_user
+        from ..usersim.purity import keeps_state
         result.simulator = simulator.name
         result.under_test = run_user(simulator, scene)
+        result.keeps_state = keeps_state(simulator, scene, result.under_test.states())
+        if result.keeps_state:
+            result.warnings.append(result.keeps_state)
         tested = {result.under_test.integrator: result.under_test}
 
     checks = []
     if simulator is not None:
         from .identical_check import check_identical
         tr = result.under_test
-        checks.append(check_identical(scene, tr.states(), tr.integrator, scene.dt, tr.meta.get("written_digits")))
+        checks.append(check_identical(scene, tr.states(), tr.integrator, scene.dt, tr.meta.get("rounding")))
     for name, run in tested.items():
         if isinstance(run, str):
             checks.append(unstable_row("step", name, run))
             continue
-        # states read from a text file carry their rounding (half a unit of the last written digit)
-        digits = run.meta.get("written_digits")
-        rtol = 0.5 * 10.0 ** (1 - digits) if digits else 0.0
-        row, arrays = split_arrays(check_step(scene, run.states(), name, scene.dt, input_rtol=rtol))
+        # states read from a text file carry their rounding (fixed decimals or significant digits)
+        rounding = run.meta.get("rounding")
+        row, arrays = split_arrays(check_step(scene, run.states(), name, scene.dt, rounding=rounding))
         r = arrays.get("residual")
         result.residuals[name] = None if r is None else np.hypot(r[:, 0], r[:, 1])
         checks.append(row)
@@ -150,11 +169,11 @@ def _run(result: Result, simulator) -> None:
         if run is None:
             continue
         checks.append(unstable_row("dynamics", name, run) if isinstance(run, str)
-                      else check_dynamics(scene, run.states(), name, scene.dt))
+                      else check_dynamics(scene, run.states(), name, scene.dt, run.meta.get("rounding")))
     if simulator is not None and result.under_test.integrator not in INTEGRATORS:
         checks.append(beside_rk4_dynamics(scene, result.under_test))
-    checks.append(contact_row(scene, simulator))
-    rows, result.reference = reference_rows(scene, tested, result.runs)
+    checks.append(contact_row(scene, simulator, None if simulator is None else result.under_test.integrator))
+    rows, result.reference = reference_rows(scene, tested, result.runs, own_model=simulator is None)
     checks += rows
     result.checks = checks
 
@@ -176,7 +195,7 @@ def _run(result: Result, simulator) -> None:
     checks.append(native_row(scene, result.metrics))
     result.attribution = attribute(scene, result.mujoco if own_mapping == "penalty" else None)
     if simulator is not None:
-        result.diagnosis = simulator.diagnose(scene, result.under_test)
+        result.diagnosis = simulator.diagnose(scene, result.under_test, probe=result.keeps_state is None)
 
 
 def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> dict:
@@ -184,29 +203,41 @@ def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> dict:
     at the same step: shown, not judged (no round-off bound holds between two methods)."""
     from .dynamics_check import check_dynamics
 
-    row = check_dynamics(scene, run.states(), "rk4", scene.dt)
+    row = check_dynamics(scene, run.states(), "rk4", scene.dt, run.meta.get("rounding"))
     row.update({"integrator": run.integrator, "tolerance_position": None, "tolerance_angle": None, "pass": None,
                 "reason": f"shown, not judged: {run.integrator!r} is not an integrator the harness knows, so it "
                           "is shown beside MuJoCo's RK4 under the same contact law at the same step"})
     return row
 
 
-def contact_row(scene: Scene, simulator) -> dict:
+def contact_row(scene: Scene, simulator, integrator: str | None = None) -> dict:
     """Check contact: the simulator under test on the scene with friction off (and the linear
     law MuJoCo has), against MuJoCo's own contact. A user's simulator is run again on that
-    scene; precomputed trajectories cannot be, and the row says so."""
-    from .contact_check import check_contact, contact_scene
+    variant, which the harness made up: where it cannot run it (precomputed trajectories) or
+    refuses it (raises, fails), the check is not judged, with the user's message; the rest stand."""
+    from .contact_check import ISOLATES, check_contact, contact_scene
 
     if simulator is None:
         return check_contact(scene)
+
+    def not_judged(why: str) -> dict:
+        return {"name": "contact", "isolates": ISOLATES, "integrator": integrator,
+                "position_error_max": None, "angle_error_max": None,
+                "tolerance_position": None, "tolerance_angle": None, "pass": None, "reason": f"not judged: {why}"}
     if not simulator.reruns:
-        return {"name": "contact", "isolates": "MuJoCo's own contact (penalty mapping), friction off",
-                "integrator": None, "position_error_max": None, "angle_error_max": None,
-                "tolerance_position": None, "tolerance_angle": None, "pass": None,
-                "reason": "not judged: needs a run of the scene with friction off, which precomputed "
-                          "trajectories cannot give (bring a step function)"}
-    from ..usersim import run_user
-    return check_contact(scene, run_user(simulator, contact_scene(scene)).states())
+        return not_judged("needs a run of the scene with friction off, which precomputed trajectories cannot "
+                          "give (bring a step function)")
+    from ..usersim import UserCodeError, UserFault, run_user
+    from ..usersim.guard import EndedProcess
+    variant = contact_scene(scene)
+    try:
+        states = run_user(simulator, variant).states()
+    except EndedProcess:
+        raise
+    except (UserFault, UserCodeError) as exc:
+        return not_judged(f"your simulator did not run the variant this check needs (friction and rolling "
+                          f"resistance off, the linear damping law): {exc}")
+    return check_contact(scene, states, integrator)
 
 
 def _diverged(scene: Scene) -> SimulationDiverged:
@@ -218,10 +249,11 @@ def _diverged(scene: Scene) -> SimulationDiverged:
     raise AssertionError("custom_runs reported a divergence that did not repeat")
 
 
-def reference_rows(scene: Scene, tested: dict, runs: dict) -> tuple[list[dict], np.ndarray | None]:
+def reference_rows(scene: Scene, tested: dict, runs: dict, own_model: bool = True) -> tuple[list[dict], np.ndarray | None]:
     """The error at the scene's dt against the converged reference, for each trajectory under
-    test, beside custom_sim's for the same integrator (shown, not judged: it is the integrator's
-    accuracy, not a defect); and the reference's states."""
+    test, beside custom_sim's for the same integrator (shown, not judged); and the reference's
+    states. For custom_sim (own_model) the difference is the integrator's error at this dt; for
+    another simulator it is model and integration together."""
     from ..accuracy.reference import ReferenceError, solve_reference
 
     rows = []
@@ -236,9 +268,15 @@ def reference_rows(scene: Scene, tested: dict, runs: dict) -> tuple[list[dict], 
             continue
         err = reference_error(run, ref.states)
         mine = runs.get(name)
-        row = {"name": "reference", "isolates": "the integrator's error at this dt against the converged reference",
-               "integrator": name, **err, "tolerance_position": None, "tolerance_angle": None, "pass": None,
-               "reason": "shown, not judged: the numerical error of the integrator at the scene's dt"}
+        if own_model:
+            isolates = "the integrator's error at this dt against the converged reference"
+            reason = "shown, not judged: the numerical error of the integrator at the scene's dt"
+        else:
+            isolates = "difference to the scene model's converged solution (model and integration together)"
+            reason = ("shown, not judged: your run against the scene's model solved to convergence; a difference "
+                      "of model and one of integration both show here")
+        row = {"name": "reference", "isolates": isolates, "integrator": name, **err,
+               "tolerance_position": None, "tolerance_angle": None, "pass": None, "reason": reason}
         if mine is not None and not isinstance(mine, str) and mine is not run:
             custom = reference_error(mine, ref.states)["position_error_max"]
             row["custom_sim_position_error_max"] = custom
@@ -287,6 +325,8 @@ def metrics_json(result: Result) -> dict:
         "checks": result.checks,
         # ours
         "simulator": result.simulator,
+        "status": result.status,
+        "not_judged": [check_label(c) for c in result.not_judged],
         "failed_checks": [check_label(c) for c in result.failed],
         "warnings": result.warnings,
         "description": scene.description,

@@ -30,9 +30,10 @@ import dataclasses
 
 import numpy as np
 
-from custom_sim import Scene, SimulationDiverged
+from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 from custom_sim.bodies import contact_points_world
 
+from ..accuracy.reference import ReferenceError as NoReference
 from .impedance import NativeDiverged, native_run
 from .sensitivity import run_states, spread
 
@@ -62,9 +63,15 @@ def contact_scene(scene: Scene) -> Scene:
                                contact=dataclasses.replace(scene.contact, damping_law="linear"))
 
 
-def _row(scene: Scene, **values) -> dict:
-    row = {"name": NAME, "isolates": ISOLATES, "integrator": scene.integrator,
-           "position_error_max": 0.0, "angle_error_max": 0.0,
+def converged(scene: Scene, t: np.ndarray) -> np.ndarray:
+    """The scene's model solved to convergence (the reference), at times t (s): (len(t), 6)."""
+    from ..accuracy.reference import solve_reference
+    return solve_reference(scene, t).states
+
+
+def _row(integrator: str, **values) -> dict:
+    row = {"name": NAME, "isolates": ISOLATES, "integrator": integrator,
+           "position_error_max": None, "angle_error_max": None,
            "tolerance_position": None, "tolerance_angle": None, "pass": None, "reason": ""}
     row.update(values)
     return row
@@ -81,25 +88,32 @@ def _on_grid(t_from: np.ndarray, states: np.ndarray, t: np.ndarray) -> np.ndarra
     return np.column_stack([np.interp(t, t_from, states[:, j]) for j in range(6)])
 
 
-def check_contact(scene: Scene, states_under_test: np.ndarray | None = None) -> dict:
+def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, integrator: str | None = None) -> dict:
     """The contact check's row (CHECKS.md). states_under_test: (steps + 1, 6) states of
-    contact_scene(scene) at the scene's dt from the simulator under test; None: custom_sim."""
+    contact_scene(scene) at the scene's dt from the simulator under test; None: custom_sim.
+    integrator: the one the simulator under test steps with (default: the scene's); for one the
+    harness does not know ("other:NAME"), the integrator term is MuJoCo's own integration error
+    against the converged solution, and the simulator's own error counts against it."""
     bare = contact_scene(scene)
+    integrator = integrator or scene.integrator
+    known = integrator in INTEGRATORS
+    if known and integrator != bare.integrator:
+        bare = dataclasses.replace(bare, integrator=integrator)
     if not bare.has("contact"):
-        return _row(scene, reason="not judged: the scene has no contact, so there is no contact to isolate")
+        return _row(integrator, reason="not judged: the scene has no contact, so there is no contact to isolate")
     try:
         under = run_states(bare, bare.integrator, bare.dt) if states_under_test is None \
             else np.asarray(states_under_test, dtype=float)
         # 1. the mapping's force error, read from MuJoCo along the same run
         native, twin, error = native_run(bare)
     except (SimulationDiverged, NativeDiverged) as exc:
-        return _row(scene, reason=f"not judged: with friction off the run diverged ({exc})")
+        return _row(integrator, reason=f"not judged: with friction off the run diverged ({exc})")
     if under.ndim != 2 or under.shape[1] != 6 or len(under) < 2:
-        return _row(scene, reason=f"not judged: the states under test have shape {under.shape}, "
+        return _row(integrator, reason=f"not judged: the states under test have shape {under.shape}, "
                                   f"expected (steps + 1, 6)")
     if not np.all(np.isfinite(under)):
         step = int(np.flatnonzero(~np.all(np.isfinite(under), axis=1))[0])
-        return _row(scene, **{"pass": False}, first_exceeding_time=step * bare.dt,
+        return _row(integrator, **{"pass": False}, first_exceeding_time=step * bare.dt,
                     reason=f"the states under test leave finite numbers at step {step} (t = {step * bare.dt:.6g} s)")
     t_under = np.arange(len(under)) * bare.dt
     t = np.arange(len(native)) * twin.dt
@@ -112,14 +126,21 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None) -> 
     try:
         centre, s_pos, s_ang, chosen = spread(bare, error.relative, same, twin.dt, error.torque_relative)
         # 3. the integrator and step, when the one under test is not MuJoCo's
-        if (same, twin.dt) != (bare.integrator, bare.dt):
+        if not known:
+            own = converged(bare, t)
+            integ_pos = np.hypot(own[:, 0] - centre[:len(t), 0], own[:, 1] - centre[:len(t), 1])
+            integ_ang = np.abs(own[:, 2] - centre[:len(t), 2])
+        elif (same, twin.dt) != (bare.integrator, bare.dt):
             own = _on_grid(t_under, run_states(bare, bare.integrator, bare.dt), t)
             integ_pos = np.hypot(own[:, 0] - centre[:len(t), 0], own[:, 1] - centre[:len(t), 1])
             integ_ang = np.abs(own[:, 2] - centre[:len(t), 2])
         else:
             integ_pos = integ_ang = np.zeros(len(t))
     except SimulationDiverged as exc:
-        return _row(scene, reason=f"not judged: custom_sim's ensemble diverged ({exc})")
+        return _row(integrator, reason=f"not judged: custom_sim's ensemble diverged ({exc})")
+    except NoReference as exc:
+        return _row(integrator, reason=f"not judged: {integrator} is an integrator the harness does not know, and the "
+                                  f"converged solution that would stand in for it could not be found ({exc})")
     s_pos, s_ang = s_pos[:len(t)], s_ang[:len(t)]
 
     d_pos = np.hypot(tested[:, 0] - native[:, 0], tested[:, 1] - native[:, 1])
@@ -152,7 +173,7 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None) -> 
         why = ("the body never touches the ground" if end == len(t) else
                "the motion's sensitivity to the mapping's force error (and the integrator's difference) "
                f"stays above a tenth of the motion after t = {horizon:.4g} s, before any contact")
-        return _row(scene, position_error_max=float(d_pos.max()), angle_error_max=float(d_ang.max()),
+        return _row(integrator, position_error_max=float(d_pos.max()), angle_error_max=float(d_ang.max()),
                     reason=f"not judged: {why}", **extra)
     pos_max, ang_max = float(d_pos[:end].max()), float(d_ang[:end].max())
     tp, ta = float(tol_pos[end - 1]), float(tol_ang[end - 1])
@@ -165,12 +186,18 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None) -> 
               f"torque is off by up to the penalty mapping's measured error ({error.relative:.2g} of the force, "
               f"{error.torque_relative:.2g} of the torque; MuJoCo's "
               f"A / A_hat from {error.ratio_min:.3g} to {error.ratio_max:.3g})"
-              + (f", plus the integrator difference ({bare.integrator}, dt {bare.dt:g} s against MuJoCo's "
-                 f"{twin.integrator}, dt {twin.dt:g} s)" if extra["integrator_position_max"] > 0 else "")
-              + f"; over {window}"
-              + ("" if judge_angle or not turns else "; the angle is shown, not judged: the body turns "
-                 "by less than ten times its tolerance"))
+              + ((f", plus the integrator difference ({bare.integrator}, dt {bare.dt:g} s against MuJoCo's "
+                  f"{twin.integrator}, dt {twin.dt:g} s)" if known else
+                  f", plus MuJoCo's own integration error ({twin.integrator}, dt {twin.dt:g} s) against the "
+                  f"converged solution: {integrator} is not an integrator the harness can run, so its own error "
+                  "counts against it") if extra["integrator_position_max"] > 0 else "")
+              + f"; over {window}, where MuJoCo's run (friction off) moves by {motion_pos[end - 1]:.3g} m"
+              + (f" and turns by {motion_ang[end - 1]:.3g} rad" if turns else "")
+              + (f" (the tolerance is at most {MOTION_SHARE:g} of that)")
+              + ("" if judge_angle or not turns else
+                 f"; the angle is shown, not judged: the body turns by less than {1 / MOTION_SHARE:g} times "
+                 f"its tolerance ({ta:.3g} rad)"))
     first = np.flatnonzero(d_pos[:end] > tp)
     extra["first_exceeding_time"] = float(t[first[0]]) if len(first) else None
-    return _row(scene, position_error_max=pos_max, angle_error_max=ang_max, tolerance_position=tp,
+    return _row(integrator, position_error_max=pos_max, angle_error_max=ang_max, tolerance_position=tp,
                 tolerance_angle=ta if judge_angle else None, **{"pass": passed}, reason=reason, **extra)

@@ -36,6 +36,12 @@ Tolerance (m, rad), derived:
    with its cause.
 A wrong inertia, mass or contact point moves the body by 1e-4 to 1e-1 m after the first
 impact, far above both.
+
+No judged tolerance exceeds a tenth of the motion it judges (MOTION_SHARE, the contact check's
+rule; the motion is the range of the twin's COM path, and of its angle, over the judged window).
+A body that does not turn (a point mass, a ball that bounces straight, a box sliding flat
+whose angle moves by less than ten times 1e-9 rad) has its angle shown, not judged; a position
+whose tolerance does not fit leaves the check not judged. The row says which, with the motion.
 """
 from __future__ import annotations
 
@@ -58,12 +64,15 @@ SENSITIVITY_PERTURBATION = 4.0 * EPS   # relative, on every force-law parameter
 SENSITIVITY_SAFETY = 10.0          # the two ensemble members sample the spread, not its maximum
 HORIZON_POSITION = 1e-6            # m: judged while the tolerance stays below this, a thousandth
 HORIZON_ANGLE = 1e-5               # rad   of the smallest mistake's effect (1e-3 m, 1e-2 rad)
+MOTION_SHARE = 0.1                 # no judged tolerance above a tenth of the motion it judges
 FRICTION_STABILITY = 2.0           # explicit step of a decaying rate lambda: stable for h lambda < 2
 
 
-def check_dynamics(scene: Scene, states, integrator: str, dt: float) -> dict:
+def check_dynamics(scene: Scene, states, integrator: str, dt: float, rounding=None) -> dict:
     """The `dynamics` row for `states` (steps + 1, 6), a run of `scene` with `integrator` and
-    `dt` by the simulator under test (CHECKS.md)."""
+    `dt` by the simulator under test (CHECKS.md). rounding: how the states were written to a
+    file (one_step.Rounding), None for full double precision: its half unit of each value is
+    added to the tolerance."""
     row = {"name": NAME, "isolates": ISOLATES, "integrator": integrator,
            "position_error_max": None, "angle_error_max": None,
            "tolerance_position": None, "tolerance_angle": None, "pass": None}
@@ -94,12 +103,21 @@ def check_dynamics(scene: Scene, states, integrator: str, dt: float) -> dict:
     pos = np.hypot(states[:, 0] - twin[:, 0], states[:, 1] - twin[:, 1])
     ang = np.abs(states[:, 2] - twin[:, 2])
     tol_pos, tol_ang = roundoff_tolerance(twin, run.steps)
+    if rounding is not None:   # the file's own rounding, on top of the two codes' round-off
+        half = rounding.half_unit(states)
+        tol_pos += float(np.hypot(half[:, 0], half[:, 1]).max())
+        tol_ang += float(half[:, 2].max())
+        row["rounding"] = rounding.describe()
+    motion_pos, motion_ang = motion(twin)
+    # an angle that turns by less than its tolerance / MOTION_SHARE is shown, not judged: its
+    # difference neither fails the check nor calls for the sensitivity runs
+    judge_angle = tol_ang <= MOTION_SHARE * motion_ang[-1]
     row.update(position_error_max=float(pos.max()), angle_error_max=float(ang.max()),
                roundoff_position=tol_pos, roundoff_angle=tol_ang,
                mujoco_integrator=MUJOCO_INTEGRATOR[integrator],
                friction_step_number_max=friction_step_number(run, twin))
     bound, judged = "round-off", len(pos)
-    if pos.max() > tol_pos or ang.max() > tol_ang:
+    if pos.max() > tol_pos or (judge_angle and ang.max() > tol_ang):
         spread = sensitivity(run, MUJOCO_INTEGRATOR[integrator], dt, twin)
         if spread is None:
             row["sensitivity_position"] = None
@@ -116,10 +134,20 @@ def check_dynamics(scene: Scene, states, integrator: str, dt: float) -> dict:
                        position_error_max_whole_run=float(pos.max()),
                        angle_error_max_whole_run=float(ang.max()))
             row.update(position_error_max=float(pos[:judged].max()), angle_error_max=float(ang[:judged].max()))
-    over = (pos[:judged] > tol_pos) | (ang[:judged] > tol_ang)
+    # the rule, over the judged window [0, judged - 1] (tolerances only grow and the window
+    # only shrinks with the sensitivity bound, so an angle not judged above stays so)
+    judge_position = tol_pos <= MOTION_SHARE * motion_pos[judged - 1]
+    judge_angle = judge_position and tol_ang <= MOTION_SHARE * motion_ang[judged - 1]
+    row.update(motion_position=float(motion_pos[judged - 1]), motion_angle=float(motion_ang[judged - 1]),
+               judged_steps=judged - 1, judged_until=(judged - 1) * float(dt), bound=bound)
+    if not judge_position:
+        row["reason"] = (f"not judged: the tolerance {tol_pos:.3g} m exceeds {MOTION_SHARE:g} of the motion "
+                         f"it would judge ({row['motion_position']:.3g} m up to t = {row['judged_until']:.6g} s)")
+        return row
+    over = (pos[:judged] > tol_pos) | ((ang[:judged] > tol_ang) if judge_angle else False)
     passed = not over.any()
-    row.update(tolerance_position=tol_pos, tolerance_angle=tol_ang, bound=bound,
-               judged_steps=judged - 1, judged_until=(judged - 1) * float(dt), **{"pass": passed})
+    row.update(tolerance_position=tol_pos, tolerance_angle=tol_ang if judge_angle else None,
+               tolerance_angle_shown=None if judge_angle else tol_ang, **{"pass": passed})
     if not passed:
         i = int(np.argmax(over))
         row.update(first_step_over=i, time_first_over=i * float(dt))
@@ -133,6 +161,13 @@ def roundoff_tolerance(states: np.ndarray, steps: int) -> tuple[float, float]:
     turn = max(1.0, float(np.max(np.abs(states[:, 2]))))
     return (max(ROUNDOFF_FLOOR_POSITION, ROUNDOFF_PER_STEP * steps * reach),
             max(ROUNDOFF_FLOOR_ANGLE, ROUNDOFF_PER_STEP * steps * turn))
+
+
+def motion(states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Range of the COM path (m) and of the angle (rad) over [0, t], for every t."""
+    def running_range(a):
+        return np.maximum.accumulate(a) - np.minimum.accumulate(a)
+    return np.hypot(running_range(states[:, 0]), running_range(states[:, 1])), running_range(states[:, 2])
 
 
 def sensitivity(scene: Scene, mujoco_integrator: str, dt: float, twin: np.ndarray):
@@ -194,6 +229,8 @@ def _reason(row: dict, steps: int) -> str:
     fr = row["friction_step_number_max"]
     base = (f"round-off of two correct codes, at most {ROUNDOFF_PER_STEP:.2g} relative per step over "
             f"{steps} steps (floor {ROUNDOFF_FLOOR_POSITION:g} m, {ROUNDOFF_FLOOR_ANGLE:g} rad)")
+    if row.get("rounding"):
+        base += f"; plus the file's rounding at {row['rounding']}"
     if row["bound"] == "sensitivity":
         base += (f"; this motion amplifies round-off: twin runs with the force law scaled by 1 +- "
                  f"{SENSITIVITY_PERTURBATION:.2g} part by {row['sensitivity_position']:.3g} m and "
@@ -207,6 +244,9 @@ def _reason(row: dict, steps: int) -> str:
                      f"{fr:.3g} > {FRICTION_STABILITY:g}")
     elif "sensitivity_position" in row:
         base += "; the amplification could not be measured (a perturbed twin run diverged)"
+    if row["tolerance_angle"] is None:
+        base += (f"; the angle is shown, not judged: it turns by {row['motion_angle']:.3g} rad in the judged "
+                 f"window, less than {1 / MOTION_SHARE:g} times its tolerance {row['tolerance_angle_shown']:.3g} rad")
     if row["pass"] is False:
         base += (f"; first over at step {row['first_step_over']} (t = {row['time_first_over']:.6g} s): "
                  f"a mistake in the inertia, mass, torque, contact points or the integrator")

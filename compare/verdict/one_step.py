@@ -18,12 +18,19 @@ roundings: at most FORCE_ULPS ulps of the sum of the magnitudes of its terms (fo
 times h. Positions take h times the velocity's bound on top (semi-implicit Euler and RK4 use the
 new velocities). Implicit Euler's v1 is the root of an equation a simulator solves only to its
 own Newton tolerance: IMPLICIT_SOLVE_TOL on v1 and h IMPLICIT_SOLVE_TOL on q1 are added.
+
+States read from a text file carry the file's own rounding (Rounding: fixed decimals, an
+absolute half unit, or significant digits, a relative one). The next state's half unit adds
+as it is; the state before's half units are carried through the step by the step itself
+(input_rounding_bound), since a stiff contact amplifies them (dv1 = h k/m dy0).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from compare.accuracy.force_law import SEED_LAW, Law, accelerations
+from compare.accuracy.force_law import SEED_LAW, Law, accelerations, arms
 from compare.accuracy.reference import Equations
 
 EPS = np.finfo(float).eps
@@ -45,36 +52,79 @@ SLOW_PROGRESS = 0.5
 SLOW_PATIENCE = 8
 
 METHODS = ("explicit_euler", "semi_implicit_euler", "implicit_euler", "rk4")
+# States read from text carry the file's rounding, carried through one step by the step map
+# (input_rounding_bound): the sum of one-component-at-a-time secants at the written state is
+# the first-order bound, and a trajectory of many steps attains it: with this factor at 1 the
+# largest residual of a correct simulator's file reaches 0.98 to 1.00 of its bound (stiff_contact,
+# sharp_friction, fast_impact at %.6f, %.9f, %.8g, %.6g), so what first order leaves out (the
+# secant's change across the half unit, the components moving together, a contact switch
+# reached only by two components at once) has no margin left. At 2 the largest is 0.69 over
+# every built-in and stress scene and those four formats.
+INPUT_ROUNDING_SAFETY = 2.0
 
 
-def _velocity_bound(v0, v1, h, scale, rtol=0.0):
-    return ((STATE_ULPS * EPS + 2.0 * rtol) * (np.abs(v0) + np.abs(v1))
-            + (FORCE_ULPS * EPS + 2.0 * rtol) * h * scale)
+@dataclass(frozen=True)
+class Rounding:
+    """How a file's numbers were rounded when written, found from the file's own text:
+    kind "decimals": a fixed number of digits after the point (C's %f, %.6f, %.9f): every
+    value is within an absolute half unit 0.5e-digits of what was computed (a vx of 1e-8 is
+    written 0.000000); kind "significant": digits significant figures (%.8g, %.10g, a
+    shortest repr stopped short): within a relative half unit 0.5e(1-digits) of each value."""
+
+    kind: str
+    digits: int
+
+    def __post_init__(self):
+        if self.kind not in ("decimals", "significant"):
+            raise ValueError(f"Rounding kind {self.kind!r}: expected 'decimals' or 'significant'")
+
+    @property
+    def atol(self) -> float:
+        """The absolute half unit (decimals), 0 otherwise."""
+        return 0.5 * 10.0 ** -self.digits if self.kind == "decimals" else 0.0
+
+    @property
+    def rtol(self) -> float:
+        """The relative half unit (significant digits), 0 otherwise."""
+        return 0.5 * 10.0 ** (1 - self.digits) if self.kind == "significant" else 0.0
+
+    def half_unit(self, values) -> np.ndarray:
+        """The largest rounding of each written value (same shape): atol + rtol |value|."""
+        return self.atol + self.rtol * np.abs(np.asarray(values, dtype=float))
+
+    def describe(self) -> str:
+        if self.kind == "decimals":
+            return f"{self.digits} decimals (%.{self.digits}f: {self.atol:.1g} absolute)"
+        return f"{self.digits} significant digits (%.{self.digits}g: {self.rtol:.1g} relative)"
 
 
-def _position_bound(q0, q1, h, v, rtol=0.0):
-    return (STATE_ULPS * EPS + 2.0 * rtol) * (np.abs(q0) + np.abs(q1) + h * np.abs(v))
+def _velocity_bound(v0, v1, h, scale):
+    return STATE_ULPS * EPS * (np.abs(v0) + np.abs(v1)) + FORCE_ULPS * EPS * h * scale
 
 
-def explicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW, rtol: float = 0.0):
+def _position_bound(q0, q1, h, v):
+    return STATE_ULPS * EPS * (np.abs(q0) + np.abs(q1) + h * np.abs(v))
+
+
+def explicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
     q0, v0 = Z[:, :3], Z[:, 3:]
     a, scale = accelerations(eq, Z, law)
     v1 = v0 + h * a
     q1 = q0 + h * v0
-    bv = _velocity_bound(v0, v1, h, scale, rtol)
-    return np.hstack([q1, v1]), np.hstack([_position_bound(q0, q1, h, v0, rtol), bv]), None
+    bv = _velocity_bound(v0, v1, h, scale)
+    return np.hstack([q1, v1]), np.hstack([_position_bound(q0, q1, h, v0), bv]), None
 
 
-def semi_implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW, rtol: float = 0.0):
+def semi_implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
     q0, v0 = Z[:, :3], Z[:, 3:]
     a, scale = accelerations(eq, Z, law)
     v1 = v0 + h * a
     q1 = q0 + h * v1
-    bv = _velocity_bound(v0, v1, h, scale, rtol)
-    return np.hstack([q1, v1]), np.hstack([_position_bound(q0, q1, h, v1, rtol) + h * bv, bv]), None
+    bv = _velocity_bound(v0, v1, h, scale)
+    return np.hstack([q1, v1]), np.hstack([_position_bound(q0, q1, h, v1) + h * bv, bv]), None
 
 
-def rk4(eq: Equations, Z, h, law: Law = SEED_LAW, rtol: float = 0.0):
+def rk4(eq: Equations, Z, h, law: Law = SEED_LAW):
     weights = (1.0, 2.0, 2.0, 1.0)
     nodes = (0.5, 0.5, 1.0)
     total = np.zeros_like(Z)
@@ -90,8 +140,8 @@ def rk4(eq: Equations, Z, h, law: Law = SEED_LAW, rtol: float = 0.0):
         if s < 3:
             stage = Z + nodes[s] * h * k
     Z1 = Z + h / 6.0 * total
-    bv = _velocity_bound(Z[:, 3:], Z1[:, 3:], h, scale, rtol)
-    bq = _position_bound(Z[:, :3], Z1[:, :3], h, speed, rtol) + h * bv
+    bv = _velocity_bound(Z[:, 3:], Z1[:, 3:], h, scale)
+    bq = _position_bound(Z[:, :3], Z1[:, :3], h, speed) + h * bv
     return Z1, np.hstack([bq, bv]), None
 
 
@@ -102,7 +152,7 @@ def implicit_residual(eq: Equations, Z, V, h, law: Law = SEED_LAW):
     return V - Z[:, 3:] - h * a, scale
 
 
-def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW, rtol: float = 0.0):
+def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
     """Damped Newton on G(v1) = 0 for every row at once, from the explicit predictor, with a
     forward-difference Jacobian (the kinks of the law make an analytic one no better). Returns
     (Z1, bound, solved): solved (N,) is False where no root was found, which happens where G
@@ -157,8 +207,8 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW, rtol: float = 0.0):
     floor = 4.0 * EPS * np.max(np.abs(V) + h * scale, axis=1)
     solved = size <= np.maximum(OWN_SOLVE_TOL, floor)
     q1 = Z[:, :3] + h * V
-    bv = _velocity_bound(v0, V, h, scale, rtol) + IMPLICIT_SOLVE_TOL
-    bq = _position_bound(Z[:, :3], q1, h, V, rtol) + h * bv
+    bv = _velocity_bound(v0, V, h, scale) + IMPLICIT_SOLVE_TOL
+    bq = _position_bound(Z[:, :3], q1, h, V) + h * bv
     return np.hstack([q1, V]), np.hstack([bq, bv]), solved
 
 
@@ -166,14 +216,64 @@ STEPS = {"explicit_euler": explicit_euler, "semi_implicit_euler": semi_implicit_
          "implicit_euler": implicit_euler, "rk4": rk4}
 
 
-def one_step(eq: Equations, Z, h: float, method: str, law: Law = SEED_LAW, rtol: float = 0.0):
+def input_rounding_bound(eq: Equations, Z, Z1, h: float, method: str, law: Law = SEED_LAW,
+                         rtol: float = 0.0, atol: float = 0.0) -> np.ndarray:
+    """How far the states' own rounding can move the residual |step(z0) - z1| (N, 6), for
+    states written with a half unit of atol + rtol |z| per value (Rounding.half_unit).
+
+    The written z0 is the simulator's z0* moved by e0, |e0| <= u(z0) per component, and the
+    written z1 is its z1* moved by e1, |e1| <= u(z1). So step(z0) - z1 = [step(z0) - step(z0*)]
+    - e1 + (the simulator's own round-off), and the first term is what the step does to e0:
+    amplified where the force is stiff (a touching point: dv1 = h k/m dy0, dq1 = h^2 k/m dy0 on
+    top of dy0) or sharp (the tanh friction: h mu alpha Fn/m dvx0). It is measured with the
+    step itself: each component moved by its half unit both ways, the others kept, and the
+    larger change of step(z0) kept; summed over the six components (the triangle inequality
+    along a path from z0* to z0 one component at a time). A secant over the whole half unit,
+    not a derivative, so a contact switch within the rounding (the compression law's damper
+    engaging at d = 0) is reached; y is moved by the rounding of the depth d = -(y + r_y), which
+    theta moves too (|r_x| u(theta)). INPUT_ROUNDING_SAFETY covers what the one-at-a-time
+    secants, taken at the written state rather than along the path, leave out (second order)."""
+    Z = np.ascontiguousarray(np.atleast_2d(Z), dtype=float)
+    Z1 = np.atleast_2d(Z1)
+    u0 = atol + rtol * np.abs(Z)
+    if eq.contact and eq.turning:
+        rx, _, _ = arms(eq, Z[:, 2], law)
+        u0[:, 1] = u0[:, 1] + np.max(np.abs(rx), axis=1) * u0[:, 2]
+    step = STEPS[method]
+    spread = np.zeros_like(Z)
+    for j in range(6):
+        if not np.any(u0[:, j]):
+            continue
+        worst = np.zeros_like(Z)
+        for sign in (1.0, -1.0):
+            Zp = Z.copy()
+            Zp[:, j] += sign * u0[:, j]
+            moved = np.abs(step(eq, Zp, h, law)[0] - Z1)
+            worst = np.maximum(worst, np.where(np.isfinite(moved), moved, np.inf))
+        spread += worst
+    return INPUT_ROUNDING_SAFETY * spread + atol + rtol * np.abs(Z1)
+
+
+def one_step(eq: Equations, Z, h: float, method: str, law: Law = SEED_LAW, rtol=0.0, atol: float = 0.0,
+             parts: bool = False):
     """(Z1, bound, solved) for states Z (N, 6): one step of `method` from each row, the
     round-off bound of each component (N, 6), and (implicit Euler) which rows have a root
-    (None for the explicit methods). rtol: relative rounding of the given states beyond double
-    precision (a CSV of 10 significant digits: 5e-10); it enters the bound as round-off does,
-    on the states and, through the force terms' magnitudes, on the accelerations."""
+    (None for the explicit methods).
+
+    rtol, atol: the given states' own rounding beyond double precision, a half unit of
+    atol + rtol |z| per value (a CSV at 10 significant digits: rtol 5e-10; at 6 decimals,
+    %.6f: atol 5e-7); rtol may be a Rounding, which gives both. Its effect through the step
+    (input_rounding_bound) is added to the bound. parts: return (Z1, bound, solved,
+    input_part), input_part (N, 6) the share of the bound the rounding makes (zeros without)."""
     Z = np.ascontiguousarray(np.atleast_2d(Z), dtype=float)
-    return STEPS[method](eq, Z, float(h), law, float(rtol))
+    if isinstance(rtol, Rounding):
+        rtol, atol = rtol.rtol, rtol.atol
+    rtol, atol, h = float(rtol or 0.0), float(atol or 0.0), float(h)
+    Z1, bound, solved = STEPS[method](eq, Z, h, law)
+    extra = (input_rounding_bound(eq, Z, Z1, h, method, law, rtol, atol) if rtol or atol
+             else np.zeros_like(Z1))
+    bound = bound + extra
+    return (Z1, bound, solved, extra) if parts else (Z1, bound, solved)
 
 
 def jump_defect(eq: Equations, Z, Z1, h: float, law: Law = SEED_LAW):

@@ -18,8 +18,8 @@ import numpy as np
 from compare.accuracy.force_law import SEED_LAW, Law, contact_state
 from compare.accuracy.reference import Equations
 
-from .one_step import (FORCE_ULPS, IMPLICIT_SOLVE_TOL, METHODS, STATE_ULPS, jump_defect,
-                       one_step)
+from .one_step import (FORCE_ULPS, IMPLICIT_SOLVE_TOL, INPUT_ROUNDING_SAFETY, METHODS, STATE_ULPS, Rounding,
+                       jump_defect, one_step)
 
 COMPONENTS = ("x", "y", "theta", "vx", "vy", "omega")
 ISOLATES = "one step of the integrator from each state, against an independent right-hand side"
@@ -41,6 +41,7 @@ class StepResiduals:
     bound: np.ndarray
     no_root: np.ndarray
     jump_point: np.ndarray
+    input_bound: np.ndarray | None = None   # (n, 6) the share of bound the states' own rounding makes
 
     @property
     def over(self) -> np.ndarray:
@@ -56,20 +57,24 @@ class StepResiduals:
 
 
 def step_residuals(eq: Equations, states: np.ndarray, integrator: str, dt: float,
-                   law: Law = SEED_LAW, input_rtol: float = 0.0) -> StepResiduals:
+                   law: Law = SEED_LAW, input_rtol=0.0, input_atol: float = 0.0) -> StepResiduals:
     """One step of `integrator` (with the force law `law`) from every row of states (T, 6)
-    but the last, against the next row; input_rtol: the states' relative rounding beyond
-    double precision (see one_step)."""
+    but the last, against the next row; input_rtol, input_atol: the states' own rounding
+    beyond double precision, relative and absolute half units (input_rtol may be a Rounding,
+    which gives both; see one_step)."""
     states = np.asarray(states, dtype=float)
+    if isinstance(input_rtol, Rounding):
+        input_rtol, input_atol = input_rtol.rtol, input_rtol.atol
     n = states.shape[0] - 1
     residual = np.empty((n, 6))
     bound = np.empty((n, 6))
+    input_bound = np.zeros((n, 6))
     no_root = np.zeros(n, dtype=bool)
     jump_point = np.full(n, -1)
     for lo in range(0, n, CHUNK):
         hi = min(n, lo + CHUNK)
         Z0, Z1 = states[lo:hi], states[lo + 1:hi + 1]
-        mine, b, solved = one_step(eq, Z0, dt, integrator, law, input_rtol)
+        mine, b, solved, b_in = one_step(eq, Z0, dt, integrator, law, input_rtol, input_atol, parts=True)
         r = np.abs(mine - Z1)
         if solved is not None and not solved.all():
             rows = np.flatnonzero(~solved)
@@ -78,8 +83,8 @@ def step_residuals(eq: Equations, states: np.ndarray, integrator: str, dt: float
             defect[:, 1] = np.maximum(defect[:, 1], np.abs(depth))  # on the jump: d_j(q1) = 0
             r[rows] = defect
             no_root[lo + rows] = True
-        residual[lo:hi], bound[lo:hi] = r, b
-    return StepResiduals(residual, bound, no_root, jump_point)
+        residual[lo:hi], bound[lo:hi], input_bound[lo:hi] = r, b, b_in
+    return StepResiduals(residual, bound, no_root, jump_point, input_bound)
 
 
 def _point_name(eq: Equations, i: int) -> str:
@@ -133,14 +138,47 @@ def _first_bad_finite(states: np.ndarray) -> int | None:
     return None if ok.all() else int(np.argmin(ok))
 
 
+# A rounding allowance above this fraction of the largest change a component makes in one step
+# leaves that component nothing to judge: a mistake changing its step by less would pass.
+ROUNDING_JUDGE_FRACTION = 0.1
+
+
+def _moving(eq: Equations, states: np.ndarray) -> list[int]:
+    """The components the body has (a point mass: x, y, vx, vy) that change over the run."""
+    change = np.abs(np.diff(states, axis=0)).max(axis=0)
+    return [c for c in (range(6) if eq.rotates else (0, 1, 3, 4)) if change[c] > 0.0]
+
+
+def _swamped(eq: Equations, states: np.ndarray, res: StepResiduals) -> list[str]:
+    """The moving components whose rounding allowance exceeds ROUNDING_JUDGE_FRACTION of their
+    largest change per step."""
+    change = np.abs(np.diff(states, axis=0)).max(axis=0)
+    allowance = res.input_bound.max(axis=0)
+    return [COMPONENTS[c] for c in _moving(eq, states) if allowance[c] > ROUNDING_JUDGE_FRACTION * change[c]]
+
+
+def _rounding_words(rounding: Rounding | None, input_rtol: float) -> str:
+    said = ([rounding.describe()] if rounding else []) + ([f"{input_rtol:g} relative"] if input_rtol else [])
+    return "the states' own rounding (" + " and ".join(said) + ")"
+
+
 def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED_LAW,
-               input_rtol: float = 0.0) -> dict:
+               input_rtol=0.0, rounding: Rounding | None = None) -> dict:
     """The `step` check row for the trajectory `states` (steps + 1, 6), row 0 at t = 0, run with
-    `integrator` at step `dt` (s). input_rtol: relative rounding of the states beyond double
-    precision, for trajectories read from text (10 significant digits: 5e-10), 0 otherwise. Extra keys: first_step, first_time, phase, component,
-    residual_max (per component), bound_ratio_max, no_root_steps, steps_checked, and
-    "residual": the (steps, 6) per-step residual array (not JSON: pop it, see ARRAY_KEYS)."""
+    `integrator` at step `dt` (s). rounding: how the states were written, for trajectories read
+    from text (Rounding: fixed decimals, an absolute half unit, or significant digits, a
+    relative one), None for full double precision; input_rtol: a relative rounding given as a
+    number instead (10 significant digits: 5e-10), or a Rounding. The rounding is carried
+    through the step into the bound (one_step.input_rounding_bound); where it swamps the motion
+    (ROUNDING_JUDGE_FRACTION), the row is not judged. Extra keys: first_step, first_time,
+    phase, component, residual_max (per component), bound_ratio_max, no_root_steps,
+    steps_checked, and "residual": the (steps, 6) per-step residual array (not JSON: pop it,
+    see ARRAY_KEYS)."""
     states = np.asarray(states, dtype=float)
+    if isinstance(input_rtol, Rounding):
+        input_rtol, rounding = 0.0, input_rtol
+    rtol = float(input_rtol or 0.0) + (rounding.rtol if rounding else 0.0)
+    atol = rounding.atol if rounding else 0.0
     row = {"name": "step", "isolates": ISOLATES, "integrator": integrator,
            "position_error_max": None, "angle_error_max": None,
            "tolerance_position": None, "tolerance_angle": None, "pass": None,
@@ -162,7 +200,7 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
             row["pass"] = False
             return row
     eq = Equations.from_scene(scene)
-    res = step_residuals(eq, states, integrator, dt, law, input_rtol)
+    res = step_residuals(eq, states, integrator, dt, law, rtol, atol)
     r, b = res.residual, res.bound
     over = res.over
     ratio = res.ratio()
@@ -187,8 +225,24 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
     row["reason"] = (f"round-off of two codes evaluating the same step, per step and component: "
                      f"{STATE_ULPS:g} ulps of |z0| + |z1| and {FORCE_ULPS:g} ulps of h times the "
                      f"magnitude of the force terms{solve}{jumps}"
-                     + (f"; the states' own rounding {input_rtol:g} (relative) on both" if input_rtol else "")
+                     + ("; plus " + _rounding_words(rounding, input_rtol) + ": the next state's half unit, "
+                        f"and {INPUT_ROUNDING_SAFETY:g} x how far the half units of the state before move the "
+                        "step (stiff contact and sharp friction amplify them)" if rtol or atol else "")
                      + "; the tolerances shown are the largest per-step bounds")
+    swamped = _swamped(eq, states, res) if (rtol or atol) else []
+    # a residual over the (honest) bound is a failure whatever the rounding; only a pass that
+    # the rounding could be hiding a mistake in becomes "not judged"
+    if swamped and len(swamped) == len(_moving(eq, states)) and passed:
+        row.update(tolerance_position=None, tolerance_angle=None)
+        row["pass"] = None
+        row["reason"] = ("not judged: " + _rounding_words(rounding, input_rtol) + " carried through one step "
+                         f"exceeds {ROUNDING_JUDGE_FRACTION:g} of the largest change per step of every component "
+                         "that moves (" + ", ".join(swamped) + "), so a mistake could hide in the rounding; "
+                         "write more digits (%.17g keeps a double exactly)")
+        return row
+    if swamped:
+        row["reason"] += ("; the rounding allows " + ", ".join(swamped) + f" more than "
+                          f"{ROUNDING_JUDGE_FRACTION:g} of its largest change per step, so these say little")
     if failing.size:
         i = int(failing[0])
         comp = int(np.argmax(np.where(over[i], ratio[i], -1.0)))
