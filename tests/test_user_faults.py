@@ -115,6 +115,8 @@ def test_checks_follow_the_integrator_the_simulator_declares():
     assert all(c["integrator"] == "rk4" for c in result.checks if c["integrator"]), result.checks
     assert rows["contact"]["pass"] is True, (rows["contact"]["position_error_max"], rows["contact"]["reason"])
     assert rows["identical"]["pass"] is True and rows["step"]["pass"] is True
+    # another simulator's distance to the converged solution is model and integration together
+    assert "model and integration together" in rows["reference"]["isolates"], rows["reference"]
 
 
 # --- 2. the user's code cannot end, hang or steer the harness --------------------------------
@@ -352,11 +354,15 @@ def test_a_return_that_is_not_six_real_numbers_is_bad_input(tmp_path, short, cas
     assert said in str(err.value) and "at step 1" in str(err.value), str(err.value)
 
 
-def test_float32_is_accepted_with_a_warning(tmp_path, short):
+def test_float32_is_accepted_with_a_warning_on_the_page(tmp_path, short):
+    from compare.verdict.comparison import run_scenario
+
     spec = write(tmp_path, "def step(z, scene, dt):\n    return np.asarray(_seed_step(z, scene, dt), dtype=np.float32)\n")
     with pytest.warns(UserWarning, match="float32"):
         states = run_user(load_simulator(spec + ":step"), short).states()
     assert states.dtype == np.float64
+    result = run_scenario(short, load_simulator(spec + ":step"))
+    assert any("float32" in w for w in result.warnings), result.warnings
 
 
 def test_nan_exception_and_blow_up_are_the_scenes_fault_not_bad_input(tmp_path, short):

@@ -17,6 +17,7 @@ The scenario passes when every judged check passes.
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -143,7 +144,10 @@ def _run(result: Result, simulator) -> None:
         from ..usersim import run_user
         from ..usersim.purity import keeps_state
         result.simulator = simulator.name
-        result.under_test = run_user(simulator, scene)
+        with warnings.catch_warnings(record=True) as said:   # e.g. float32 states: onto the page
+            warnings.simplefilter("always", UserWarning)
+            result.under_test = run_user(simulator, scene)
+        result.warnings += [str(w.message) for w in said if issubclass(w.category, UserWarning)]
         result.keeps_state = keeps_state(simulator, scene, result.under_test.states())
         if result.keeps_state:
             result.warnings.append(result.keeps_state)
