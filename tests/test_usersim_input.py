@@ -26,23 +26,20 @@ def module(tmp_path, body, name="user_sim"):
     return str(path)
 
 
-def faults(sim_or_spec, scene, whole=False):
-    """A fault of this scene's run (an exception, a NaN): UserFault, the scene's row, not bad input."""
-    with pytest.raises(UserFault) as err:
-        sim = load_simulator(sim_or_spec, whole) if isinstance(sim_or_spec, str) else sim_or_spec
-        run_user(sim, scene)
-    message = str(err.value)
-    assert "\n" not in message
-    return message, err.value.details
-
-
-def fails(sim_or_spec, scene, whole=False):
-    with pytest.raises(BadInput) as err:
+def fails(sim_or_spec, scene, whole=False, error=BadInput):
+    """The one-line message (and the user's traceback) of `error` raised running the simulator:
+    BadInput for the protocol, UserFault for a fault of this scene's run (see faults)."""
+    with pytest.raises(error) as err:
         sim = load_simulator(sim_or_spec, whole) if isinstance(sim_or_spec, str) else sim_or_spec
         run_user(sim, scene)
     message = str(err.value)
     assert "\n" not in message
     return message, getattr(err.value, "details", "")
+
+
+def faults(sim_or_spec, scene, whole=False):
+    """An exception or a NaN in one scene's run: UserFault (the scene's row), not bad input."""
+    return fails(sim_or_spec, scene, whole, UserFault)
 
 
 def test_step_function_by_path_and_by_dotted_name(scene, monkeypatch):
