@@ -6,6 +6,7 @@ angle theta (counter-clockwise). Contact points are given relative to the COM.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -47,8 +48,16 @@ def box_corners(w: float, h: float, centre=(0.0, 0.0)) -> np.ndarray:
                      [cx + w / 2, cy + h / 2], [cx - w / 2, cy + h / 2]])
 
 
+@lru_cache(maxsize=64)
 def mass_properties(body: Body) -> MassProperties:
-    """Mass, inertia and contact points of a scene body (seed Algorithms 1-4)."""
+    """Mass, inertia and contact points of a scene body (seed Algorithms 1-4), derived once per
+    body (the contact points are read-only: every caller shares them)."""
+    props = _derive(body)
+    props.points.flags.writeable = False
+    return props
+
+
+def _derive(body: Body) -> MassProperties:
     m = body.mass
     if body.shape == "point":
         # Algorithm 1: touches the ground when y < contact_height, i.e. a point at (0, -h).

@@ -20,6 +20,7 @@ same sizes and masses (tests/test_mujoco_rigid_body.py).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -65,8 +66,16 @@ def boxes(body: Body) -> list[tuple[float, tuple[float, float], tuple[float, flo
     raise ValueError(f"a {body.shape} body is not made of boxes")
 
 
+@lru_cache(maxsize=64)
 def rigid_body(body: Body) -> RigidBody:
-    """Mass properties and contact points of a scene body (module docstring)."""
+    """Mass properties and contact points of a scene body (module docstring), derived once per
+    body (the contact points are read-only: every twin of it shares them)."""
+    props = _derive(body)
+    props.points.flags.writeable = False
+    return props
+
+
+def _derive(body: Body) -> RigidBody:
     m = float(body.mass)
     if body.shape == "point":
         return RigidBody(m, 0.0, (0.0, 0.0), np.array([[0.0, -float(body.contact_height)]]),

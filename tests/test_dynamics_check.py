@@ -83,11 +83,13 @@ def test_a_motion_that_amplifies_round_off_is_judged_with_its_measured_sensitivi
 def inertia_10_percent_high(monkeypatch):
     real = custom_sim.bodies.box_inertia
     monkeypatch.setattr(custom_sim.bodies, "box_inertia", lambda m, w, h: 1.1 * real(m, w, h))
+    custom_sim.bodies.mass_properties.cache_clear()
 
 
 def corners_with_width_and_height_swapped(monkeypatch):
     real = custom_sim.bodies.box_corners
     monkeypatch.setattr(custom_sim.bodies, "box_corners", lambda w, h, centre=(0.0, 0.0): real(h, w, centre))
+    custom_sim.bodies.mass_properties.cache_clear()
 
 
 def mass_10_percent_high_in_the_compiled_model(monkeypatch):
@@ -110,8 +112,11 @@ def test_a_mistake_in_custom_sim_fails_the_check_and_leaves_the_twin_alone(monke
     scene = short(name, 0.6 if name == "t_shape_drop" else 0.4)
     twin_before = simulate_dynamics(scene).states()
     correct = simulate(scene).states()
-    mistake(monkeypatch)
-    wrong = simulate(scene).states()
+    mistake(monkeypatch)   # mass properties are derived once per body: the mistake clears them
+    try:
+        wrong = simulate(scene).states()
+    finally:
+        custom_sim.bodies.mass_properties.cache_clear()   # the mistake's must not outlive the test
     assert not np.array_equal(wrong, correct), "the mistake changes custom_sim's run"
     row = check_dynamics(scene, wrong, "semi_implicit_euler", scene.dt)
     assert_json_row(row)

@@ -21,6 +21,7 @@ Point mass: no rotation; the contact point sits contact_height below the COM (th
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -79,8 +80,10 @@ def polygons_body(polygons, masses) -> RigidBody:
                      tuple((float(px), float(py)) for px, py in pts), turning=True, rotates=True)
 
 
+@lru_cache(maxsize=64)
 def rigid_body(body: Body) -> RigidBody:
-    """The body's mass properties and contact points from the scene's geometry."""
+    """The body's mass properties and contact points from the scene's geometry (derived once
+    per body; the RigidBody holds tuples, so every caller may share it)."""
     if body.shape == "point":
         return RigidBody(body.mass, 0.0, (0.0, 0.0), ((0.0, -float(body.contact_height)),),
                          turning=False, rotates=False)

@@ -102,13 +102,13 @@ class _Simulator:
         self._scene = scene
         return self._run(scene)
 
-    def diagnose(self, scene: Scene, trajectory, probe: bool = True) -> dict:
+    def diagnose(self, scene: Scene, trajectory, probe: bool = True, case=None) -> dict:
         """diagnosis(self, scene, trajectory.states()): see compare/usersim/diagnosis.py.
         probe False: the step is not called from chosen states (it keeps state between calls,
         so an answer out of order would not be the one its run used): the trajectory alone."""
         from .diagnosis import diagnosis
         return diagnosis(self if probe else _TrajectoryOnly(self), scene, trajectory.states(),
-                         trajectory.meta.get("rounding"))
+                         trajectory.meta.get("rounding"), case)
 
 
 class _TrajectoryOnly:

@@ -22,11 +22,9 @@ so and shows the residual, in its units and in newtons.
 """
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 
-from custom_sim import INTEGRATORS, Scene, SimulationDiverged, simulate
+from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
 from ..verdict import mistakes
 from .errors import UserCodeError, UserFault
@@ -38,13 +36,17 @@ from .scene_dict import scene_dict
 VERDICT_NOT_NAMED = 3
 
 
-def _moments(simulator, scene: Scene, integrator: str, also=()) -> dict:
+def _moments(simulator, scene: Scene, integrator: str, also=(), case=None) -> dict:
     """The user's step from custom_sim's states at the chosen moments, in time order; `also`:
-    mistakes whose reproduction of every moment is wanted (the trajectory's explanation)."""
-    run_scene = scene if integrator == scene.integrator or integrator not in INTEGRATORS \
-        else dataclasses.replace(scene, integrator=integrator)
+    mistakes whose reproduction of every moment is wanted (the trajectory's explanation);
+    case: the scenario's Case, whose custom_sim runs it takes."""
+    if case is None:
+        from ..verdict.case import Case
+        case = Case(scene)
+    run_integrator = integrator if integrator in INTEGRATORS else None
+    run_scene = case.variant(run_integrator)
     try:
-        ours = simulate(run_scene).states()
+        ours = case.trajectory(run_integrator).states()
     except SimulationDiverged as exc:
         return {"verdict": f"not diagnosed: custom_sim diverges on this scene ({exc})", "moments": []}
     picked = sorted(pick_moments(run_scene, ours), key=lambda m: m.row)
@@ -120,7 +122,7 @@ def _named(*explained: list[str]) -> list[dict]:
              "description": mistakes.BY_NAME[n].description} for n in names]
 
 
-def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None) -> dict:
+def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=None) -> dict:
     """The diagnosis of the user's run `states` (steps + 1, 6) of `scene` (JSON-safe dict):
 
     integrator    the one the simulator names
@@ -141,7 +143,7 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None) -> dic
     integrator = simulator.integrator_for(scene)
     states = np.asarray(states, dtype=float)
     traj = mistakes.diagnose(scene, states, integrator, scene.dt, input_rtol=rounding or 0.0)
-    moments = (_moments(simulator, scene, integrator, also=traj.get("explained_by", []))
+    moments = (_moments(simulator, scene, integrator, also=traj.get("explained_by", []), case=case)
                if getattr(simulator, "kind", "") == "step" else None)
     names, not_named = _decide(traj, moments, scene, states, integrator)
     named = _named(names)

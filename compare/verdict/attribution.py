@@ -29,7 +29,6 @@ import numpy as np
 
 from custom_sim import Scene, SimulationDiverged
 
-from .sensitivity import run_states
 
 CAUSES = {
     "native": "MuJoCo's own contact with the penalty mapping and every effect of the scene: all the "
@@ -77,11 +76,16 @@ def _on_grid(states: np.ndarray, dt_from: float, dt_to: float, steps: int) -> np
     return np.column_stack([np.interp(t, t_from, states[:, j]) for j in range(6)])
 
 
-def rungs(scene: Scene, native_run=None) -> list[tuple[str, callable]]:
+def rungs(scene: Scene, native_run=None, case=None) -> list[tuple[str, callable]]:
     """(name, run) of each rung; run() returns states at the scene's dt (steps + 1, 6).
-    native_run: the native twin's Trajectory (penalty mapping) when already run."""
+    native_run: the native twin's Trajectory (penalty mapping) when already run; case: the
+    scenario's Case, which runs each custom_sim variant once."""
     from mujoco_models import simulate_mujoco
 
+    if case is None:
+        from .case import Case
+        case = Case(scene)
+    ours = case.states
     mj_integrator = scene.mujoco.integrator
     mj_dt = scene.mujoco.dt or scene.dt
     same = MUJOCO_UPDATE[mj_integrator]
@@ -108,15 +112,15 @@ def rungs(scene: Scene, native_run=None) -> list[tuple[str, callable]]:
         out += [(name, ours_inside_mujoco("midpoint")), ("contact point", ours_inside_mujoco("corner"))]
     if scene.has("contact"):
         lin = _linear(scene)
-        out.append(("mapping", lambda: _on_grid(run_states(lin, same, mj_dt), mj_dt, scene.dt, scene.steps)))
+        out.append(("mapping", lambda: _on_grid(ours(lin, same, mj_dt), mj_dt, scene.dt, scene.steps)))
         if (same, mj_dt) != (scene.integrator, scene.dt):
-            out.append(("integrator", lambda: run_states(lin, scene.integrator, scene.dt)))
+            out.append(("integrator", lambda: ours(lin, scene.integrator, scene.dt)))
         if scene.contact.damping_law != "linear":
-            out.append(("damping law", lambda: run_states(scene, scene.integrator, scene.dt)))
+            out.append(("damping law", lambda: ours(scene, scene.integrator, scene.dt)))
     return out
 
 
-def attribute(scene: Scene, native=None) -> list[dict]:
+def attribute(scene: Scene, native=None, case=None) -> list[dict]:
     """The ladder (module docstring): one dict per rung with name, cause, position_error_max (m),
     angle_error_max (rad) against custom_sim, share_position / share_angle (the fall from the rung
     before, m / rad), step_position / step_angle (distance to the rung before), measured (bool),
@@ -124,9 +128,12 @@ def attribute(scene: Scene, native=None) -> list[dict]:
     penalty mapping, if the caller has run it."""
     from mujoco_models import MujocoDiverged
 
-    reference = run_states(scene, scene.integrator, scene.dt)
+    if case is None:
+        from .case import Case
+        case = Case(scene)
+    reference = case.states(scene, scene.integrator, scene.dt)
     out, before = [], None
-    for name, run in rungs(scene, native):
+    for name, run in rungs(scene, native, case):
         row = {"name": name, "cause": CAUSES[name], "measured": False, "note": "",
                "position_error_max": None, "angle_error_max": None, "share_position": None,
                "share_angle": None, "step_position": None, "step_angle": None}

@@ -16,16 +16,16 @@ The scenario passes when every judged check passes.
 """
 from __future__ import annotations
 
-import dataclasses
 import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Trajectory, simulate, stable_step
+from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Trajectory, stable_step
 from custom_sim.scene import SOLREF_MAPPINGS
 
 from . import events, metrics
+from .case import Case
 from .tolerance import native_row
 
 # integrators whose dynamics MuJoCo can integrate with a passive force: Euler is our
@@ -88,13 +88,13 @@ def check_label(check: dict) -> str:
     return f"{check['name']} ({check['integrator']})" if check.get("integrator") else check["name"]
 
 
-def custom_runs(scene: Scene) -> dict:
+def custom_runs(case: Case) -> dict:
     """custom_sim with each of the four integrators at the scene's dt: a Trajectory, or the
     divergence message where that integrator is unstable at this step."""
     runs = {}
     for name in INTEGRATORS:
         try:
-            runs[name] = simulate(dataclasses.replace(scene, integrator=name))
+            runs[name] = case.trajectory(name)
         except SimulationDiverged as exc:
             runs[name] = str(exc)
     return runs
@@ -114,7 +114,7 @@ def run_scenario(scene: Scene, simulator=None) -> Result:
 
     result = Result(scene)
     try:
-        _run(result, simulator)
+        _run(result, Case(scene), simulator)
     except SimulationDiverged as exc:
         result.error, result.unstable = str(exc), True
     except UserFault as exc:  # the user's code failed on this scene: its row, the others go on
@@ -123,8 +123,8 @@ def run_scenario(scene: Scene, simulator=None) -> Result:
     return result
 
 
-def _run(result: Result, simulator) -> None:
-    from mujoco_models import MujocoDiverged, simulate_mujoco
+def _run(result: Result, case: Case, simulator) -> None:
+    from mujoco_models import MujocoDiverged
 
     from .attribution import attribute
     from .dynamics_check import check_dynamics
@@ -132,13 +132,10 @@ def _run(result: Result, simulator) -> None:
 
     scene = result.scene
     result.warnings = stability_warnings(scene)
-    result.runs = custom_runs(scene)
-    own = result.runs[scene.integrator]
-    if isinstance(own, str):
-        raise _diverged(scene)
-    result.custom = own
+    result.runs = custom_runs(case)
+    result.custom = case.trajectory()   # raises the scene's own divergence
     if simulator is None:
-        result.under_test = own
+        result.under_test = result.custom
         tested = {name: run for name, run in result.runs.items()}
     else:
         from ..usersim import run_user
@@ -157,14 +154,15 @@ def _run(result: Result, simulator) -> None:
     if simulator is not None:
         from .identical_check import check_identical
         tr = result.under_test
-        checks.append(check_identical(scene, tr.states(), tr.integrator, scene.dt, tr.meta.get("rounding")))
+        checks.append(check_identical(scene, tr.states(), tr.integrator, scene.dt, tr.meta.get("rounding"), case=case))
     for name, run in tested.items():
         if isinstance(run, str):
             checks.append(unstable_row("step", name, run))
             continue
         # states read from a text file carry their rounding (fixed decimals or significant digits)
         rounding = run.meta.get("rounding")
-        row, arrays = split_arrays(check_step(scene, run.states(), name, scene.dt, rounding=rounding))
+        row, arrays = split_arrays(check_step(scene, run.states(), name, scene.dt, rounding=rounding,
+                                              equations=case.equations))
         r = arrays.get("residual")
         result.residuals[name] = None if r is None else np.hypot(r[:, 0], r[:, 1])
         checks.append(row)
@@ -176,15 +174,15 @@ def _run(result: Result, simulator) -> None:
                       else check_dynamics(scene, run.states(), name, scene.dt, run.meta.get("rounding")))
     if simulator is not None and result.under_test.integrator not in INTEGRATORS:
         checks.append(beside_rk4_dynamics(scene, result.under_test))
-    checks.append(contact_row(scene, simulator, None if simulator is None else result.under_test.integrator))
-    rows, result.reference = reference_rows(scene, tested, result.runs, own_model=simulator is None)
+    checks.append(contact_row(case, simulator, None if simulator is None else result.under_test.integrator))
+    rows, result.reference = reference_rows(case, tested, result.runs, own_model=simulator is None)
     checks += rows
     result.checks = checks
 
     own_mapping = scene.mujoco.solref
     for mapping in (own_mapping,) + tuple(m for m in SOLREF_MAPPINGS if m != own_mapping):
         try:
-            twin = simulate_mujoco(scene, solref=mapping)
+            twin = case.mujoco(mapping)
         except (SimulationDiverged, MujocoDiverged) as exc:  # shown in the mappings table
             result.by_mapping[mapping] = {"error": str(exc)}
             continue
@@ -197,9 +195,9 @@ def _run(result: Result, simulator) -> None:
     if result.mujoco is None:
         raise RuntimeError(result.by_mapping[own_mapping]["error"])
     checks.append(native_row(scene, result.metrics))
-    result.attribution = attribute(scene, result.mujoco if own_mapping == "penalty" else None)
+    result.attribution = attribute(scene, result.mujoco if own_mapping == "penalty" else None, case=case)
     if simulator is not None:
-        result.diagnosis = simulator.diagnose(scene, result.under_test, probe=result.keeps_state is None)
+        result.diagnosis = simulator.diagnose(scene, result.under_test, probe=result.keeps_state is None, case=case)
 
 
 def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> dict:
@@ -214,15 +212,16 @@ def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> dict:
     return row
 
 
-def contact_row(scene: Scene, simulator, integrator: str | None = None) -> dict:
+def contact_row(case: Case, simulator, integrator: str | None = None) -> dict:
     """Check contact: the simulator under test on the scene with friction off (and the linear
     law MuJoCo has), against MuJoCo's own contact. A user's simulator is run again on that
     variant, which the harness made up: where it cannot run it (precomputed trajectories) or
     refuses it (raises, fails), the check is not judged, with the user's message; the rest stand."""
     from .contact_check import ISOLATES, check_contact, contact_scene
 
+    scene = case.scene
     if simulator is None:
-        return check_contact(scene)
+        return check_contact(scene, case=case)
 
     def not_judged(why: str) -> dict:
         return {"name": "contact", "isolates": ISOLATES, "integrator": integrator,
@@ -241,28 +240,19 @@ def contact_row(scene: Scene, simulator, integrator: str | None = None) -> dict:
     except (UserFault, UserCodeError) as exc:
         return not_judged(f"your simulator did not run the variant this check needs (friction and rolling "
                           f"resistance off, the linear damping law): {exc}")
-    return check_contact(scene, states, integrator)
+    return check_contact(scene, states, integrator, case=case)
 
 
-def _diverged(scene: Scene) -> SimulationDiverged:
-    """Run the scene's own integrator again to raise its divergence with step and state."""
-    try:
-        simulate(scene)
-    except SimulationDiverged as exc:
-        return exc
-    raise AssertionError("custom_runs reported a divergence that did not repeat")
-
-
-def reference_rows(scene: Scene, tested: dict, runs: dict, own_model: bool = True) -> tuple[list[dict], np.ndarray | None]:
+def reference_rows(case: Case, tested: dict, runs: dict, own_model: bool = True) -> tuple[list[dict], np.ndarray | None]:
     """The error at the scene's dt against the converged reference, for each trajectory under
     test, beside custom_sim's for the same integrator (shown, not judged); and the reference's
     states. For custom_sim (own_model) the difference is the integrator's error at this dt; for
     another simulator it is model and integration together."""
-    from ..accuracy.reference import ReferenceError, solve_reference
+    from ..accuracy.reference import ReferenceError
 
     rows = []
     try:
-        ref = solve_reference(scene, np.arange(scene.steps + 1) * scene.dt)
+        ref = case.reference()
     except ReferenceError as exc:
         return [{"name": "reference", "isolates": "accuracy at this dt", "integrator": None,
                  "position_error_max": None, "angle_error_max": None, "tolerance_position": None,

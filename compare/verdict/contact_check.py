@@ -35,7 +35,7 @@ from custom_sim.bodies import contact_points_world
 
 from ..accuracy.reference import ReferenceError as NoReference
 from .impedance import NativeDiverged, native_run
-from .sensitivity import run_states, spread
+from .sensitivity import spread
 
 NAME = "contact"
 ISOLATES = ("MuJoCo's own contact (penalty mapping), friction off: the normal contact force, "
@@ -88,12 +88,17 @@ def _on_grid(t_from: np.ndarray, states: np.ndarray, t: np.ndarray) -> np.ndarra
     return np.column_stack([np.interp(t, t_from, states[:, j]) for j in range(6)])
 
 
-def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, integrator: str | None = None) -> dict:
+def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, integrator: str | None = None,
+                  case=None) -> dict:
     """The contact check's row (CHECKS.md). states_under_test: (steps + 1, 6) states of
     contact_scene(scene) at the scene's dt from the simulator under test; None: custom_sim.
     integrator: the one the simulator under test steps with (default: the scene's); for one the
     harness does not know ("other:NAME"), the integrator term is MuJoCo's own integration error
-    against the converged solution, and the simulator's own error counts against it."""
+    against the converged solution, and the simulator's own error counts against it. case: the
+    scenario's Case (case.py), which runs each custom_sim variant once."""
+    if case is None:
+        from .case import Case
+        case = Case(scene)
     bare = contact_scene(scene)
     integrator = integrator or scene.integrator
     known = integrator in INTEGRATORS
@@ -102,7 +107,7 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, int
     if not bare.has("contact"):
         return _row(integrator, reason="not judged: the scene has no contact, so there is no contact to isolate")
     try:
-        under = run_states(bare, bare.integrator, bare.dt) if states_under_test is None \
+        under = case.states(bare, bare.integrator, bare.dt) if states_under_test is None \
             else np.asarray(states_under_test, dtype=float)
         # 1. the mapping's force error, read from MuJoCo along the same run
         native, twin, error = native_run(bare)
@@ -124,14 +129,15 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, int
     # 2. the motion's sensitivity to the force error
     same = MUJOCO_UPDATE[twin.integrator]
     try:
-        centre, s_pos, s_ang, chosen = spread(bare, error.relative, same, twin.dt, error.torque_relative)
+        centre, s_pos, s_ang, chosen = spread(bare, error.relative, same, twin.dt, error.torque_relative,
+                                              centre=case.states(bare, same, twin.dt))
         # 3. the integrator and step, when the one under test is not MuJoCo's
         if not known:
             own = converged(bare, t)
             integ_pos = np.hypot(own[:, 0] - centre[:len(t), 0], own[:, 1] - centre[:len(t), 1])
             integ_ang = np.abs(own[:, 2] - centre[:len(t), 2])
         elif (same, twin.dt) != (bare.integrator, bare.dt):
-            own = _on_grid(t_under, run_states(bare, bare.integrator, bare.dt), t)
+            own = _on_grid(t_under, case.states(bare, bare.integrator, bare.dt), t)
             integ_pos = np.hypot(own[:, 0] - centre[:len(t), 0], own[:, 1] - centre[:len(t), 1])
             integ_ang = np.abs(own[:, 2] - centre[:len(t), 2])
         else:

@@ -17,14 +17,11 @@ judged" (a difference beyond the tolerance still fails).
 """
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 
-from custom_sim import INTEGRATORS, Scene, SimulationDiverged, simulate
+from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
 from .one_step import Rounding
-from .roundoff import roundoff_envelope
 
 # A file whose rounding moves the body's points by more than this fraction of the motion's size
 # (the larger of the body's extent and the distance its centre travels) leaves nothing to judge:
@@ -44,11 +41,12 @@ def _row(**kw) -> dict:
 
 
 def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt: float,
-                    rounding: Rounding | int | None | str = "auto") -> dict:
+                    rounding: Rounding | int | None | str = "auto", case=None) -> dict:
     """The check row (CHECKS.md) for states (steps + 1, 6) of the simulator under test, which
     names `integrator` and steps by dt (s). rounding: how the states were written (a CSV's
     Rounding, from its text), None for full double precision, an int for that many
-    significant digits, "auto": read off the numbers alone (csv_files.rounding_of_values)."""
+    significant digits, "auto": read off the numbers alone (csv_files.rounding_of_values).
+    case: the scenario's Case (case.py), whose custom_sim run and envelope it takes."""
     states = np.asarray(states, dtype=float)
     if isinstance(rounding, str):   # "auto"
         from compare.usersim.csv_files import rounding_of_values
@@ -62,10 +60,12 @@ def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt
     if not np.isclose(dt, scene.dt, rtol=1e-12, atol=0.0):
         return _row(integrator=integrator,
                     reason=f"not judged: dt = {dt:g} s differs from the scene's {scene.dt:g} s")
-    run_scene = scene if integrator == scene.integrator else dataclasses.replace(scene, integrator=integrator)
+    if case is None:
+        from .case import Case
+        case = Case(scene)
     try:
-        ours = simulate(run_scene).states()
-        envelope = roundoff_envelope(run_scene)
+        ours = case.trajectory(integrator).states()
+        envelope = case.envelope(integrator)
     except SimulationDiverged as exc:
         return _row(integrator=integrator, reason=f"not judged: custom_sim diverges here ({exc})")
     if states.shape != ours.shape:

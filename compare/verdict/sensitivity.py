@@ -69,10 +69,12 @@ def members(scene: Scene, eps: float, eps_torque: float | None = None) -> list[t
     return out
 
 
-def spread(scene: Scene, eps: float, integrator: str, dt: float, eps_torque: float | None = None):
+def spread(scene: Scene, eps: float, integrator: str, dt: float, eps_torque: float | None = None,
+           centre: np.ndarray | None = None):
     """(centre states, position spread (steps + 1,) m, angle spread rad, members): the
-    unperturbed run and, at each time, the largest distance of a member from it."""
-    centre = run_states(scene, integrator, dt)
+    unperturbed run (centre, if the caller has it) and, at each time, the largest distance of
+    a member from it."""
+    centre = run_states(scene, integrator, dt) if centre is None else centre
     pos = np.zeros(len(centre))
     ang = np.zeros(len(centre))
     chosen = members(scene, eps, eps_torque)

@@ -163,9 +163,10 @@ def _rounding_words(rounding: Rounding | None, input_rtol: float) -> str:
 
 
 def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED_LAW,
-               input_rtol=0.0, rounding: Rounding | None = None) -> dict:
+               input_rtol=0.0, rounding: Rounding | None = None, equations: Equations | None = None) -> dict:
     """The `step` check row for the trajectory `states` (steps + 1, 6), row 0 at t = 0, run with
-    `integrator` at step `dt` (s). rounding: how the states were written, for trajectories read
+    `integrator` at step `dt` (s); equations: the oracle's, if the caller has them (a Case).
+    rounding: how the states were written, for trajectories read
     from text (Rounding: fixed decimals, an absolute half unit, or significant digits, a
     relative one), None for full double precision; input_rtol: a relative rounding given as a
     number instead (10 significant digits: 5e-10), or a Rounding. The rounding is carried
@@ -199,7 +200,7 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
             row["reason"] = f"state {bad} is not finite, no step before it to check: not judged"
             row["pass"] = False
             return row
-    eq = Equations.from_scene(scene)
+    eq = equations or Equations.from_scene(scene)
     res = step_residuals(eq, states, integrator, dt, law, rtol, atol)
     r, b = res.residual, res.bound
     over = res.over
