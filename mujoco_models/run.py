@@ -25,7 +25,7 @@ from .frames import joint_count, states_from_q
 from .geometry import describe
 from .guard import first_blowup
 from .sites import contact_below_site
-from .spec import Twin, build_twin
+from .spec import Twin, compiled_twin
 
 STAGES = {"Euler": 1, "implicit": 1, "implicitfast": 1, "RK4": 4}  # force evaluations per mj_step
 WARMUP_STEPS = 200
@@ -42,8 +42,7 @@ def setup_rollout(scene: Scene, solref: str | None = None, integrator: str | Non
                   dt: float | None = None, pairs: str = "native"):
     """(twin, model, data, start state, steps): everything mujoco.rollout needs for the scene,
     with the data at the scene's initial state (keyframe 0) and steps = duration / dt."""
-    twin = build_twin(scene, solref, integrator=integrator, dt=dt, pairs=pairs)
-    model = twin.spec.compile()
+    twin, model = compiled_twin(scene, solref, integrator=integrator, dt=dt, pairs=pairs)
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, 0)
     start_state = np.empty(mujoco.mj_stateSize(model, FULL_STATE))

@@ -124,13 +124,11 @@ def build_twin(scene: Scene, solref: str | None = None, *, integrator: str | Non
         _add_geom(body, plan, VISUAL_GROUP, SHAPE_RGBA)
     sites = add_contact_sites(body, scene.body, props)
 
-    # A_hat depends on the mass matrix only: compile once, then write the contact pairs.
-    model = spec.compile()
     # a twin whose pairs carry the normal only gets the parameters of the frictionless scene
     # (no friction rows, no pyramid scaling of the normal's solref)
     paired_scene = scene if pairs == "native" else dataclasses.replace(
         scene, effects=tuple(e for e in scene.effects if "friction" not in e))
-    params = contact_parameters(paired_scene, mapping, a_hat(model, model.body(BODY).id), dt, props)
+    params = contact_parameters(paired_scene, mapping, body_a_hat(scene.body, spec), dt, props)
     spec.option.impratio = params.impratio
     condim = condim_for(scene) if pairs == "native" else 1
     paired = []
@@ -149,6 +147,20 @@ def build_twin(scene: Scene, solref: str | None = None, *, integrator: str | Non
                 integrator, scene.mujoco.cone, dt, len(paired), pairs, sensors)
 
 
+_A_HAT: dict = {}
+
+
+def body_a_hat(body, spec: mujoco.MjSpec) -> float:
+    """MuJoCo's A_hat (1/kg) of the body's contact with the world. The mass matrix alone sets it
+    (the body's inertia and joints: not the pairs, the step or the integrator), so it is read
+    once per body, from a compile of the first twin's spec before its contact pairs are
+    written, and every later twin of that body takes it without compiling."""
+    if body not in _A_HAT:
+        model = spec.compile()
+        _A_HAT[body] = a_hat(model, model.body(BODY).id)
+    return _A_HAT[body]
+
+
 def build_spec(scene: Scene, solref: str | None = None, **settings) -> mujoco.MjSpec:
     """The twin's MjSpec; settings: integrator=, dt= (default: the scene's [mujoco] table)."""
     return build_twin(scene, solref, **settings).spec
@@ -159,11 +171,27 @@ def build_model(scene: Scene, solref: str | None = None, **settings) -> mujoco.M
     return build_spec(scene, solref, **settings).compile()
 
 
+_COMPILED: dict = {}
+COMPILED_KEPT = 32   # twins kept compiled (a scenario needs about ten; each is a few hundred kB)
+
+
+def compiled_twin(scene: Scene, solref: str | None = None, *, integrator: str | None = None,
+                  dt: float | None = None, pairs: str = "native") -> tuple[Twin, mujoco.MjModel]:
+    """The twin and its compiled MjModel, compiled once per distinct twin (the scene, its
+    mapping, integrator, step and pairs) and shared: a caller makes its own MjData and never
+    changes the model (build_model gives a model of one's own to change)."""
+    key = (scene, solref or scene.mujoco.solref, *resolve_settings(scene, integrator, dt), pairs)
+    if key not in _COMPILED:
+        if len(_COMPILED) >= COMPILED_KEPT:
+            _COMPILED.pop(next(iter(_COMPILED)))
+        twin = build_twin(scene, solref, integrator=integrator, dt=dt, pairs=pairs)
+        _COMPILED[key] = (twin, twin.spec.compile())
+    return _COMPILED[key]
+
+
 def to_mjcf(scene: Scene, solref: str | None = None, **settings) -> str:
     """The twin as MJCF text (MjSpec.to_xml of the compiled spec)."""
-    spec = build_spec(scene, solref, **settings)
-    spec.compile()
-    return spec.to_xml()
+    return compiled_twin(scene, solref, **settings)[0].spec.to_xml()
 
 
 def _initial_state(scene: Scene):

@@ -48,6 +48,17 @@ def counts(monkeypatch):
         found[("run_states", scene, integrator, dt, args, tuple(kwargs.items()))] += 1
         return real_states(scene, integrator, dt, *args, **kwargs)
     monkeypatch.setattr(sensitivity, "run_states", run_states)
+    import mujoco
+    real_compile = mujoco.MjSpec.compile
+
+    def compile_spec(spec, *args, **kwargs):
+        model = real_compile(spec, *args, **kwargs)
+        found[("compile", spec.to_xml())] += 1   # the model's own text: one key per distinct model
+        return model
+    monkeypatch.setattr(mujoco.MjSpec, "compile", compile_spec)
+    import mujoco_models.spec as spec_module
+    spec_module._A_HAT.clear()
+    spec_module._COMPILED.clear()
     yield found
     for cached in (custom_sim.bodies.mass_properties, ORACLE.rigid_body, TWIN_BODY.rigid_body):
         cached.cache_clear()
@@ -58,6 +69,8 @@ def test_one_scenario_derives_each_side_once_and_runs_the_scene_once(counts, nam
     scene = dataclasses.replace(load(name), duration=0.4)
     result = run_scenario(scene)
     assert result.error is None, result.error
+    from mujoco_models import to_mjcf
+    to_mjcf(scene)   # the report's model.xml: the native twin, compiled already
     for side in ("custom_sim mass properties", "oracle mass properties", "MuJoCo mass properties"):
         assert counts[side] == 1, (side, counts[side])
     runs = {key[1].integrator: n for key, n in counts.items() if isinstance(key, tuple) and key[0] == "simulate"}
@@ -66,8 +79,9 @@ def test_one_scenario_derives_each_side_once_and_runs_the_scene_once(counts, nam
     again = [key for key in counts if isinstance(key, tuple) and key[0] == "run_states"
              and key[1:4] == (scene, scene.integrator, scene.dt) and not key[4] and not key[5]]
     assert not again, again
-    # nor any variant twice
-    assert all(n == 1 for key, n in counts.items() if isinstance(key, tuple)), counts
+    # nor any variant twice, nor any MuJoCo model compiled twice
+    assert all(n == 1 for key, n in counts.items() if isinstance(key, tuple)), \
+        [(key[0], n) for key, n in counts.items() if isinstance(key, tuple) and n > 1]
 
 
 def test_a_failure_is_kept_and_raised_again_without_running_twice(monkeypatch):
