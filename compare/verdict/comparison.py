@@ -124,62 +124,95 @@ def run_scenario(scene: Scene, simulator=None) -> Result:
 
 
 def _run(result: Result, case: Case, simulator) -> None:
-    from mujoco_models import MujocoDiverged
-
-    from .attribution import attribute
-    from .dynamics_check import check_dynamics
-    from .step_check import check_step, split_arrays
-
+    """The scenario, check by check (each row's module is named in the module docstring)."""
     scene = result.scene
     result.warnings = stability_warnings(scene)
+    tested = runs_under_test(result, case, simulator)
+    user = simulator is not None
+    result.checks = [
+        *([identical_row(case, result.under_test)] if user else []),
+        *step_rows(result, case, tested),
+        *dynamics_rows(scene, tested, result.under_test if user else None),
+        contact_row(case, simulator, result.under_test.integrator if user else None),
+    ]
+    rows, result.reference = reference_rows(case, tested, result.runs, own_model=not user)
+    result.checks += rows
+    native_twins(result, case)
+    result.checks.append(native_row(scene, result.metrics))
+    result.attribution = attribution_ladder(case, result.mujoco)
+    if user:
+        result.diagnosis = simulator.diagnose(scene, result.under_test, probe=result.keeps_state is None, case=case)
+
+
+def runs_under_test(result: Result, case: Case, simulator) -> dict:
+    """custom_sim's four runs, and the simulator under test's (custom_sim's own, or the user's
+    with its warnings and whether its step keeps state): {integrator: Trajectory or divergence}."""
+    scene = result.scene
     result.runs = custom_runs(case)
     result.custom = case.trajectory()   # raises the scene's own divergence
     if simulator is None:
         result.under_test = result.custom
-        tested = {name: run for name, run in result.runs.items()}
-    else:
-        from ..usersim import run_user
-        from ..usersim.purity import keeps_state
-        result.simulator = simulator.name
-        with warnings.catch_warnings(record=True) as said:   # e.g. float32 states: onto the page
-            warnings.simplefilter("always", UserWarning)
-            result.under_test = run_user(simulator, scene)
-        result.warnings += [str(w.message) for w in said if issubclass(w.category, UserWarning)]
-        result.keeps_state = keeps_state(simulator, scene, result.under_test.states())
-        if result.keeps_state:
-            result.warnings.append(result.keeps_state)
-        tested = {result.under_test.integrator: result.under_test}
+        return dict(result.runs)
+    from ..usersim import run_user
+    from ..usersim.purity import keeps_state
+    result.simulator = simulator.name
+    with warnings.catch_warnings(record=True) as said:   # e.g. float32 states: onto the page
+        warnings.simplefilter("always", UserWarning)
+        result.under_test = run_user(simulator, scene)
+    result.warnings += [str(w.message) for w in said if issubclass(w.category, UserWarning)]
+    result.keeps_state = keeps_state(simulator, scene, result.under_test.states())
+    if result.keeps_state:
+        result.warnings.append(result.keeps_state)
+    return {result.under_test.integrator: result.under_test}
 
-    checks = []
-    if simulator is not None:
-        from .identical_check import check_identical
-        tr = result.under_test
-        checks.append(check_identical(scene, tr.states(), tr.integrator, scene.dt, tr.meta.get("rounding"), case=case))
+
+def identical_row(case: Case, run: Trajectory) -> dict:
+    """Check identical: the user's run against custom_sim's, same integrator and dt."""
+    from .identical_check import check_identical
+    scene = case.scene
+    return check_identical(scene, run.states(), run.integrator, scene.dt, run.meta.get("rounding"), case=case)
+
+
+def step_rows(result: Result, case: Case, tested: dict) -> list[dict]:
+    """Check step, for each run under test (its per-step residuals kept for the plots)."""
+    from .step_check import check_step, split_arrays
+
+    scene, rows = case.scene, []
     for name, run in tested.items():
         if isinstance(run, str):
-            checks.append(unstable_row("step", name, run))
+            rows.append(unstable_row("step", name, run))
             continue
         # states read from a text file carry their rounding (fixed decimals or significant digits)
-        rounding = run.meta.get("rounding")
-        row, arrays = split_arrays(check_step(scene, run.states(), name, scene.dt, rounding=rounding,
+        row, arrays = split_arrays(check_step(scene, run.states(), name, scene.dt, rounding=run.meta.get("rounding"),
                                               equations=case.equations))
         r = arrays.get("residual")
         result.residuals[name] = None if r is None else np.hypot(r[:, 0], r[:, 1])
-        checks.append(row)
+        rows.append(row)
+    return rows
+
+
+def dynamics_rows(scene: Scene, tested: dict, user_run: Trajectory | None) -> list[dict]:
+    """Check dynamics, for each run under test whose integrator MuJoCo has; an integrator the
+    harness does not know is shown beside MuJoCo's RK4."""
+    from .dynamics_check import check_dynamics
+
+    rows = []
     for name in MUJOCO_INTEGRATORS:
         run = tested.get(name)
-        if run is None:
-            continue
-        checks.append(unstable_row("dynamics", name, run) if isinstance(run, str)
-                      else check_dynamics(scene, run.states(), name, scene.dt, run.meta.get("rounding")))
-    if simulator is not None and result.under_test.integrator not in INTEGRATORS:
-        checks.append(beside_rk4_dynamics(scene, result.under_test))
-    checks.append(contact_row(case, simulator, None if simulator is None else result.under_test.integrator))
-    rows, result.reference = reference_rows(case, tested, result.runs, own_model=simulator is None)
-    checks += rows
-    result.checks = checks
+        if run is not None:
+            rows.append(unstable_row("dynamics", name, run) if isinstance(run, str)
+                        else check_dynamics(scene, run.states(), name, scene.dt, run.meta.get("rounding")))
+    if user_run is not None and user_run.integrator not in INTEGRATORS:
+        rows.append(beside_rk4_dynamics(scene, user_run))
+    return rows
 
-    own_mapping = scene.mujoco.solref
+
+def native_twins(result: Result, case: Case) -> None:
+    """MuJoCo's own contact with each solref mapping (the scene's first), measured against the
+    run under test; the scene's own mapping is the native check's and the report's twin."""
+    from mujoco_models import MujocoDiverged
+
+    own_mapping = result.scene.mujoco.solref
     for mapping in (own_mapping,) + tuple(m for m in SOLREF_MAPPINGS if m != own_mapping):
         try:
             twin = case.mujoco(mapping)
@@ -194,10 +227,13 @@ def _run(result: Result, case: Case, simulator) -> None:
             result.mujoco, result.metrics = twin, row
     if result.mujoco is None:
         raise RuntimeError(result.by_mapping[own_mapping]["error"])
-    checks.append(native_row(scene, result.metrics))
-    result.attribution = attribute(scene, result.mujoco if own_mapping == "penalty" else None, case=case)
-    if simulator is not None:
-        result.diagnosis = simulator.diagnose(scene, result.under_test, probe=result.keeps_state is None, case=case)
+
+
+def attribution_ladder(case: Case, native: Trajectory) -> list[dict]:
+    """Why custom_sim and MuJoCo's own contact differ, cause by cause (attribution.py)."""
+    from .attribution import attribute
+    scene = case.scene
+    return attribute(scene, native if scene.mujoco.solref == "penalty" else None, case=case)
 
 
 def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> dict:
