@@ -19,6 +19,10 @@ that fails a second time becomes `failed(task, reason)` (or raises, without `fai
 
 Results already computed are kept in a Store (one JSON file per finished task, written as it
 arrives, keyed by the task's key): a run interrupted and started again skips them.
+
+Dask is the `study` extra (`pip install -e '.[study]'`). Without it, `make_engine` gives a
+PoolEngine: the same `run` on a local pool of `workers` processes (concurrent.futures), which
+is what `sweep` uses in the base install; `study` and `--scheduler` need Dask (`require_dask`).
 """
 from __future__ import annotations
 
@@ -34,6 +38,35 @@ from .report.atomic import finite_json, write_text_atomically
 
 # How long to wait for an existing scheduler before giving up (s).
 CONNECT_TIMEOUT = 10.0
+STUDY_EXTRA = "pip install -e '.[study]'"   # what installs Dask
+
+
+def dask_available() -> bool:
+    """Dask and distributed are installed (looked up, not imported: an import takes ~1 s)."""
+    import importlib.util
+
+    try:
+        return all(importlib.util.find_spec(name) is not None for name in ("dask", "distributed"))
+    except (ImportError, ValueError):
+        return False
+
+
+def require_dask(what: str) -> None:
+    """Bad input, one line, when Dask is missing: '<what> needs Dask: pip install ...'."""
+    if not dask_available():
+        from .cli import BadInput
+        raise BadInput(f"{what} needs Dask: {STUDY_EXTRA}")
+
+
+def make_engine(scheduler: str | None = None, workers: int | None = None,
+                threads_per_task: int | None = None):
+    """An Engine on Dask when it is installed (a local cluster, or the one at `scheduler`), else
+    a PoolEngine of local processes; `scheduler` without Dask is bad input."""
+    if dask_available():
+        return Engine(scheduler=scheduler, workers=workers, threads_per_task=threads_per_task)
+    if scheduler:
+        require_dask(f"--scheduler {scheduler}")
+    return PoolEngine(workers=workers, threads_per_task=threads_per_task)
 
 
 @dataclass(frozen=True)
@@ -229,3 +262,101 @@ def _reason(future) -> str:
     if name == "KilledWorker":
         return "the worker running it died"
     return f"{name}: {exc}"
+
+
+class PoolEngine:
+    """Engine.run without Dask: tasks on `workers` local processes (default: every core), each a
+    pool of its own holding one task at a time, started fresh (spawn, as Dask's local cluster
+    does) and closed by close(). As on Dask, a worker that dies loses only the task it was
+    running, and is started again; a task that raised or lost its worker is resubmitted once
+    (split into single runs when `split` is given), then becomes `failed(task, reason)`."""
+
+    scheduler = None
+
+    def __init__(self, workers: int | None = None, threads_per_task: int | None = None):
+        cores = os.cpu_count() or 1
+        self._lanes: list = [None] * max(1, workers or cores)
+        self.threads_per_task = threads_per_task or max(1, cores // len(self._lanes))
+        self.retried = 0
+
+    @property
+    def workers(self) -> int:
+        return len(self._lanes)
+
+    def _lane(self, i: int):
+        if self._lanes[i] is None:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            self._lanes[i] = ProcessPoolExecutor(max_workers=1, initializer=_worker_setup,
+                                                 mp_context=multiprocessing.get_context("spawn"))
+        return self._lanes[i]
+
+    def _drop(self, i: int) -> None:
+        lane, self._lanes[i] = self._lanes[i], None
+        if lane is not None:
+            lane.shutdown(wait=True, cancel_futures=True)
+
+    def close(self) -> None:
+        for i in range(len(self._lanes)):
+            self._drop(i)
+
+    def __enter__(self) -> PoolEngine:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def run(self, fn: Callable, tasks: list[Task], desc: str = "tasks", store: Store | None = None,
+            split: Callable[[Task], list[Task]] | None = None,
+            failed: Callable[[Task, str], Any] | None = None, progress: bool = True) -> dict[str, Any]:
+        """As Engine.run."""
+        from collections import deque
+        from concurrent.futures import FIRST_COMPLETED, wait
+        from concurrent.futures.process import BrokenProcessPool
+
+        from tqdm import tqdm
+
+        results: dict[str, Any] = {}
+        todo: deque[Task] = deque()
+        for task in tasks:
+            done = store.load(task.key) if store else None
+            if done is not None:
+                results[task.key] = done
+            else:
+                todo.append(task)
+        total = sum(t.runs for t in tasks)
+        bar = tqdm(total=total, initial=total - sum(t.runs for t in todo), desc=desc, unit="run",
+                   file=sys.stderr, delay=1, disable=not progress)
+        running: dict = {}   # future -> (task, lane)
+        try:
+            while todo or running:
+                busy = {lane for _, lane in running.values()}
+                for i in range(len(self._lanes)):
+                    if todo and i not in busy:
+                        task = todo.popleft()
+                        running[self._lane(i).submit(fn, *task.args)] = (task, i)
+                finished, _ = wait(list(running), return_when=FIRST_COMPLETED)
+                for future in finished:
+                    task, lane = running.pop(future)
+                    exc = future.exception()
+                    if exc is None:
+                        Engine._keep(results, store, task.key, future.result())
+                        bar.update(task.runs)
+                        continue
+                    if isinstance(exc, BrokenProcessPool):   # its process died: a fresh one next
+                        self._drop(lane)
+                        reason = "the worker running it died"
+                    else:
+                        reason = f"{type(exc).__name__}: {exc}"
+                    if task.attempt >= 2:
+                        if failed is None:
+                            raise RuntimeError(f"{desc}: task {task.key} failed twice: {reason}")
+                        Engine._keep(results, store, task.key, failed(task, reason))
+                        bar.update(task.runs)
+                        continue
+                    self.retried += 1
+                    todo.extend(split(task) if (split and task.runs > 1) else [replace(task, attempt=2)])
+        finally:
+            bar.close()
+        return results

@@ -23,6 +23,10 @@ from compare.study.plan import (BATCHES_PER_WORKER, batches, estimated_cost, phy
 from compare.scenarios import resolve
 from compare.study.runner import run_study
 
+# Under pytest-xdist the module stays on one worker: its tests share one local Dask cluster
+# (as does test_workprecision's sweep, through the engine's cluster of the process).
+pytestmark = pytest.mark.xdist_group("dask_cluster")
+
 ROOT = Path(__file__).resolve().parent.parent
 
 # A short tilted box drop: one corner impact, rocking, rest (box_drop's body and contact, 0.6 s).

@@ -107,6 +107,7 @@ def test_a_time_wins_only_beyond_the_measured_spread():
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("dask_cluster")   # the local Dask cluster test_study starts, started once
 def test_sweep_separates_numerical_error_from_model_difference(tmp_path):
     """A short bounce in both simulators. MuJoCo's error against its own converged solution
     shrinks with its step (numerical error); its error against our reference cannot fall

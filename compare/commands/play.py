@@ -7,6 +7,8 @@
     python -m compare play --replay game.json --headless      # print the outcome as one JSON line
     python -m compare play --replay demo --video demo.mp4     # the shipped demo (compare/game/demo_goal.json)
 
+--video needs the game extra (imageio, imageio-ffmpeg): pip install -e '.[game]'.
+
 Keys: W up, A left, S down, D right (force while held), R new pass, Q quit. A goal counts
 when the last kick is taken with the ball at least 1 m from the goal mouth and the whole
 ball crosses the goal line under the crossbar.
@@ -60,6 +62,9 @@ def main(args) -> int:
         return _fail(f"{args.video}: --video writes .mp4 or .gif (got {Path(args.video).suffix or 'no extension'!r})")
     if args.fps is not None and not args.fps > 0:
         return _fail(f"--fps: expected a number > 0, got {args.fps}")
+    if args.video:
+        from compare.game.video import require_writer
+        require_writer(args.video)   # the game extra: one line and exit 2, before the replay runs
 
     replay = None
     if args.replay:

@@ -11,9 +11,10 @@ the converged reference, the largest difference to the MuJoCo twin, the wall tim
 force evaluations.
 
 Runs on a local Dask cluster of --workers processes of one thread each (default: every core),
-or on an existing cluster with --scheduler. Writes DIR/study.csv (one row per run),
-DIR/*.png (maps, with the theory's stability limit drawn over them) and DIR/index.md; finished
-batches are kept in DIR/batches/ and reused when the same study runs again.
+or on an existing cluster with --scheduler; needs Dask (pip install -e '.[study]').
+Writes DIR/study.csv (one row per run), DIR/*.png (maps, with the theory's stability limit
+drawn over them) and DIR/index.md; finished batches are kept in DIR/batches/ and reused when
+the same study runs again.
 Exit status: 0 done (unstable runs are results, not errors), 2 bad input.
 """
 from __future__ import annotations
@@ -81,6 +82,8 @@ def command_line(args) -> str:
 
 
 def main(args) -> int:
+    from ..engine import require_dask
+    require_dask("study")   # the study extra: one line and exit 2, before anything runs
     source, varies, integrators, out = parse(args)
     from ..study.report import write_report
     from ..study.runner import run_study

@@ -8,7 +8,8 @@ integrator by bisection beside the linear theory. Writes DIR/sweep/index.md (the
 "what is the cheapest way to reach 1 mm here?", the stability table, a section per scene),
 DIR/sweep/<scene>_workprecision.png, DIR/sweep/results.json and DIR/sweep/cheapest.md (the
 README's table of the cheapest way to 1 mm, with the machine it was measured on); reference solutions are
-cached (--cache). Uses every core. Exit status: 0 done, 2 bad input.
+cached (--cache). Uses every core: a local Dask cluster with the study extra, else a process
+pool; --scheduler needs Dask (pip install -e '.[study]'). Exit status: 0 done, 2 bad input.
 """
 from __future__ import annotations
 
@@ -36,9 +37,11 @@ def add_arguments(parser) -> None:
     parser.add_argument("--out", default="reports", metavar="DIR",
                         help="output folder (default: reports/); writes DIR/sweep/")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                        help="worker processes of the local Dask cluster (default: every core)")
+                        help="worker processes: of the local Dask cluster, or of a process pool "
+                             "without Dask (default: every core)")
     parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
-                        help="run on this Dask cluster, e.g. tcp://127.0.0.1:8786 (default: a local cluster)")
+                        help="run on this Dask cluster, e.g. tcp://127.0.0.1:8786 (default: a local cluster; "
+                             "needs the study extra)")
     parser.add_argument("--no-mujoco", action="store_true", help="our simulator only")
     parser.add_argument("--no-stability", action="store_true", help="skip the stability search")
     parser.add_argument("--cache", default=None, metavar="DIR",
@@ -48,6 +51,9 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
+    if args.scheduler:   # before any work: the one line that says what to install
+        from ..engine import require_dask
+        require_dask("sweep --scheduler")
     scenes = load_all(args.scenes)
     out = output_folder(args.out)
     folder = out / "sweep"

@@ -15,6 +15,21 @@ DEFAULT_FPS = {".mp4": 50.0, ".gif": 25.0}   # GIF delays are in 1/100 s; 25 fps
 HOLD_LAST = 1.0                               # s the final frame stays on screen
 
 
+GAME_EXTRA = "pip install -e '.[game]'"   # what installs the video writer
+
+
+def require_writer(out: str | Path) -> None:
+    """Bad input, one line, when the writer `out` needs is not installed: imageio for both
+    formats, imageio-ffmpeg (its ffmpeg) for .mp4."""
+    import importlib.util
+
+    needed = ["imageio"] + (["imageio_ffmpeg"] if Path(out).suffix.lower() == ".mp4" else [])
+    missing = [name.replace("_", "-") for name in needed if importlib.util.find_spec(name) is None]
+    if missing:
+        from ..cli import BadInput
+        raise BadInput(f"play --video needs {' and '.join(missing)}: {GAME_EXTRA}")
+
+
 def render_video(replay: Replay, out: str | Path, fps: float | None = None) -> int:
     """Play `replay` to its end into the video `out`; returns the number of frames written."""
     import imageio.v2 as imageio

@@ -19,6 +19,7 @@ import argparse
 import dataclasses
 import os
 import shutil
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -148,6 +149,10 @@ def main(argv=None) -> int:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", default="reports/study_benchmark", metavar="DIR")
     args = parser.parse_args(argv)
+    from ..engine import STUDY_EXTRA, dask_available
+    if not dask_available():   # its third part runs a study
+        print(f"error: compare.study.benchmark needs Dask: {STUDY_EXTRA}", file=sys.stderr)
+        return 2
     load_before = os.getloadavg()
     result = {"cores": os.cpu_count(), "load_before": load_before,
               "custom": custom_rates(), "mujoco": mujoco_rates(), "study": study_times(),
