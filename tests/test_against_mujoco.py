@@ -11,7 +11,7 @@ import math
 import pytest
 
 from compare.scenarios import builtin_paths, load
-from compare.verdict.comparison import metrics_json, run_scenario
+from compare.verdict.scenario import metrics_json, run_scenario
 from compare.verdict.contact_check import MOTION_SHARE
 
 

@@ -11,7 +11,7 @@ import mujoco_models.rigid_body  # noqa: F401
 from compare.scenarios import load
 from compare.verdict import case as case_module
 from compare.verdict.case import Case
-from compare.verdict.comparison import run_scenario
+from compare.verdict.scenario import run_scenario
 
 ORACLE = sys.modules["compare.accuracy.rigid_body"]
 TWIN_BODY = sys.modules["mujoco_models.rigid_body"]

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from compare.engine import PoolEngine, Store, Task
+from compare.executor import PoolEngine, Store, Task
 
 ROOT = Path(__file__).resolve().parents[1]
 EXTRAS = ("dask", "distributed", "imageio", "imageio_ffmpeg")   # top-level modules of the extras
@@ -24,7 +24,7 @@ HIDE = f"import sys\nfor _name in {EXTRAS!r}:\n    sys.modules[_name] = None\n"
 IMPORTS = """
 import json, sys
 import compare, compare.cli
-import compare.commands.run, compare.commands.sweep, compare.accuracy.workprecision, compare.engine
+import compare.commands.run, compare.commands.sweep, compare.accuracy.workprecision, compare.executor
 compare.cli.build_parser()          # imports every command module, as `--help` does
 print(json.dumps(sorted(m for m in sys.modules if m.split(".")[0] in EXTRAS)))
 """
@@ -50,7 +50,7 @@ print(json.dumps(out))
 
 SWEEP_WITHOUT_DASK = """
 import dataclasses, json
-from compare import engine
+from compare import executor as engine
 from compare.accuracy.workprecision import run_sweep
 from compare.scenarios import load
 assert not engine.dask_available()

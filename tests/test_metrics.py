@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from custom_sim import Trajectory, load_scene, simulate
-from compare.verdict import events, metrics, tolerance
+from compare.verdict import events, metrics, native_check
 
 
 def trajectory(t, x, y, theta=None, simulator="custom", dt=None, **energy):
@@ -99,9 +99,9 @@ def test_full_comparison_is_not_judged_unless_the_scene_sets_a_tolerance():
     in the scene file is the user's own bound and is judged."""
     point = load_scene("scenarios/point_drop.toml")
     far = {"position_error_max": 1e3, "angle_error_max": 1e3}
-    row = tolerance.native_row(point, far)
+    row = native_check.native_row(point, far)
     assert row["pass"] is None and row["reason"].startswith("not judged")
     own = dataclasses.replace(point, tolerance=dataclasses.replace(point.tolerance, position=0.01, reason="lab"))
-    row = tolerance.native_row(own, {"position_error_max": 0.009, "angle_error_max": 5.0})
+    row = native_check.native_row(own, {"position_error_max": 0.009, "angle_error_max": 5.0})
     assert row["pass"] is True and row["tolerance_position"] == 0.01 and "lab" in row["reason"]
-    assert tolerance.native_row(own, {"position_error_max": 0.011, "angle_error_max": 0.0})["pass"] is False
+    assert native_check.native_row(own, {"position_error_max": 0.011, "angle_error_max": 0.0})["pass"] is False

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from compare.cli import BadInput, main
-from compare.engine import Engine
+from compare.executor import Engine
 from compare.study import table
 from compare.study.fields import SceneSource, parse_values, parse_vary
 from compare.study.measure import twin_rows
@@ -183,7 +183,7 @@ def test_a_task_that_raises_is_split_and_a_run_that_fails_twice_is_marked(engine
     """operator.truediv as the task: (1, 0) raises every time, (1, 2) never."""
     import operator
 
-    from compare.engine import Task
+    from compare.executor import Task
 
     def split(task):
         return [Task("good", (1.0, 2.0), attempt=2), Task("bad", (1.0, 0.0), attempt=2)]

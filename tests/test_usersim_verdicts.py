@@ -178,7 +178,7 @@ def test_an_unknown_integrator_is_not_diagnosed_but_said(tmp_path):
 def test_an_unknown_integrator_is_still_compared(tmp_path):
     """Named 'other:verlet', the seed's step is held to nothing it cannot be (no step, no identical
     bound) but still shown against the reference, the dynamics twin (RK4) and MuJoCo."""
-    from compare.verdict.comparison import run_scenario
+    from compare.verdict.scenario import run_scenario
     path = tmp_path / "verlet.py"
     path.write_text(f"import sys\nsys.path.insert(0, {str(ROOT / 'examples')!r})\nfrom seed_sim import step\n"
                     "INTEGRATOR = 'other:verlet'\n")

@@ -26,7 +26,7 @@ processes on a shared machine: see compare/accuracy/benchmark.py); `wall_time` i
 
 Runs are kept only where stable (stability_search.energy_verdict on the grid states); a rung
 predicted to take longer than RUN_BUDGET is skipped (the ladder stops there). The tasks run
-on the engine (compare/engine.py): with Dask (the study extra) a local cluster of single-thread
+on the engine (compare/executor.py): with Dask (the study extra) a local cluster of single-thread
 worker processes over every core, or an existing cluster; without it a local process pool.
 """
 from __future__ import annotations
@@ -322,13 +322,13 @@ _WEIGHT = {"mujoco_converged": 40, "mujoco": 10, "custom": 5, "stability_mujoco"
 def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: int | None = None,
               mujoco: bool = True, stability: bool = True, progress=None,
               ladders: dict | None = None, scheduler: str | None = None) -> list[SceneSweep]:
-    """Measure every scene on the engine (compare/engine.py): a local Dask cluster of `jobs`
+    """Measure every scene on the engine (compare/executor.py): a local Dask cluster of `jobs`
     worker processes (a process pool when Dask is not installed), or the Dask cluster at
     `scheduler`; progress: show progress bars when given
     (any true value); ladders: {"custom": steps per grid interval, "mujoco": ...,
     "mujoco_converged": n} to replace LADDER, MUJOCO_LADDER and MUJOCO_CONVERGED_N (shorter
     runs in tests)."""
-    from ..engine import Task, make_engine
+    from ..executor import Task, make_engine
 
     cache = None if cache_dir is None else str(cache_dir)
     tasks = []

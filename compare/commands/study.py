@@ -82,7 +82,7 @@ def command_line(args) -> str:
 
 
 def main(args) -> int:
-    from ..engine import require_dask
+    from ..executor import require_dask
     require_dask("study")   # the study extra: one line and exit 2, before anything runs
     source, varies, integrators, out = parse(args)
     from ..study.report import write_report
@@ -90,7 +90,7 @@ def main(args) -> int:
 
     engine = None
     if args.scheduler:   # a wrong address is bad input: found before anything is written
-        from ..engine import Engine
+        from ..executor import Engine
         engine = Engine(scheduler=args.scheduler)
     try:
         out.mkdir(parents=True, exist_ok=True)

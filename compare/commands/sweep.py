@@ -52,7 +52,7 @@ def add_arguments(parser) -> None:
 
 def main(args) -> int:
     if args.scheduler:   # before any work: the one line that says what to install
-        from ..engine import require_dask
+        from ..executor import require_dask
         require_dask("sweep --scheduler")
     scenes = load_all(args.scenes)
     out = output_folder(args.out)

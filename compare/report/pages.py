@@ -15,7 +15,7 @@ from .atomic import finite_json, temporary_folder, write_text_atomically
 
 from ..verdict import metrics
 from . import plots
-from ..verdict.comparison import Result, check_label, metrics_json
+from ..verdict.scenario import Result, check_label, metrics_json
 
 def _fmt(x, unit: str = "") -> str:
     if x is None:

@@ -116,7 +116,7 @@ def _warm() -> None:
 
 
 def study_times() -> list[dict]:
-    from ..engine import Engine
+    from ..executor import Engine
     from ..scenarios import resolve
     from .fields import SceneSource, parse_vary
     from .runner import run_study
@@ -149,7 +149,7 @@ def main(argv=None) -> int:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", default="reports/study_benchmark", metavar="DIR")
     args = parser.parse_args(argv)
-    from ..engine import STUDY_EXTRA, dask_available
+    from ..executor import STUDY_EXTRA, dask_available
     if not dask_available():   # its third part runs a study
         print(f"error: compare.study.benchmark needs Dask: {STUDY_EXTRA}", file=sys.stderr)
         return 2

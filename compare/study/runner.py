@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..engine import Engine, Store, Task
+from ..executor import Engine, Store, Task
 from .fields import SceneSource, Vary
 from .measure import failed_rows, measure_batch, reference_states
 from .plan import BATCH_SECONDS, Point, _hash, batches, physics_scene, plan, sample_times

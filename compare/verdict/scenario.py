@@ -26,7 +26,7 @@ from custom_sim.scene import SOLREF_MAPPINGS
 
 from . import events, metrics
 from .case import Case
-from .tolerance import native_row
+from .native_check import native_row
 
 # integrators whose dynamics MuJoCo can integrate with a passive force: Euler is our
 # semi-implicit Euler, RK4 the classical four stages; its implicit integrators leave passive
