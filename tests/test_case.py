@@ -5,7 +5,7 @@ import sys
 
 import pytest
 
-import compare.accuracy.rigid_body  # noqa: F401 - the modules, not the functions of the same name
+import compare.oracle.rigid_body  # noqa: F401 - the modules, not the functions of the same name
 import custom_sim.bodies
 import mujoco_models.rigid_body  # noqa: F401
 from compare.scenarios import load
@@ -13,7 +13,7 @@ from compare.verdict import case as case_module
 from compare.verdict.case import Case
 from compare.verdict.scenario import run_scenario
 
-ORACLE = sys.modules["compare.accuracy.rigid_body"]
+ORACLE = sys.modules["compare.oracle.rigid_body"]
 TWIN_BODY = sys.modules["mujoco_models.rigid_body"]
 
 

@@ -165,7 +165,7 @@ def test_no_root_step_lands_on_the_jump(scene_factory, law):
     must find no root there, and its check must accept the step."""
     import dataclasses
 
-    from compare.accuracy.reference import Equations
+    from compare.oracle.reference import Equations
     from compare.verdict.one_step import one_step
     from compare.verdict.step_check import check_step
 

@@ -7,8 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from compare.accuracy.force_law import contact_state
-from compare.accuracy.reference import Equations
+from compare.oracle.force_law import contact_state
+from compare.oracle.reference import Equations
 from compare.scenarios import load
 from compare.verdict.mistakes import (BY_NAME, CATALOGUE, applicable, combine, diagnose,
                                       diagnose_step, pick_moments)

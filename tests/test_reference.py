@@ -12,8 +12,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from compare.accuracy import reference
-from compare.accuracy.reference import (REFERENCE_ATOL, REFERENCE_RTOL, Equations, cached_reference,
+from compare.oracle import reference
+from compare.oracle.reference import (REFERENCE_ATOL, REFERENCE_RTOL, Equations, cached_reference,
                                initial_mode, right_hand_side, solve_reference)
 from compare.scenarios import load, load_builtins
 from compare.accuracy.workprecision import custom_grid_run, grid_times, position_errors

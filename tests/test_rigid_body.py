@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import custom_sim
-from compare.accuracy import rigid_body as rb
-from compare.accuracy.reference import Equations
+from compare.oracle import rigid_body as rb
+from compare.oracle.reference import Equations
 from compare.scenarios import load, load_builtins
 
 # Two ways of summing the same moments in double precision (a few operations on numbers of
@@ -68,7 +68,7 @@ def test_agrees_with_custom_sim(scene):
 def test_reference_does_not_read_custom_sims_geometry(monkeypatch):
     """A wrong inertia or a missing corner in custom_sim's mass properties leaves the
     reference's equations unchanged."""
-    import compare.accuracy.reference as reference
+    import compare.oracle.reference as reference
     scene = load("box_drop")
     before = Equations.from_scene(scene)
 

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from compare.accuracy.reference import solve_reference
+from compare.oracle.reference import solve_reference
 from compare.scenarios import load
 from compare.accuracy.stability_search import (BISECTION_RATIO, ENERGY_GROWTH_LIMIT, custom_limit,
                                       energy_scale, energy_verdict, largest_stable_step, theory)

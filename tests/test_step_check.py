@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import custom_sim
-from compare.accuracy.reference import Equations
+from compare.oracle.reference import Equations
 from compare.scenarios import load, load_builtins
 from compare.verdict import one_step
 from compare.verdict.step_check import check_step, split_arrays

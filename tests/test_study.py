@@ -98,7 +98,7 @@ def _float(cell: str) -> float | None:
 def test_table_equals_single_runs_bit_for_bit(engine, source, tmp_path):
     """Each row of study.csv against custom_sim.simulate and mujoco_models.simulate_mujoco of the
     same scene, one run at a time, errors against the reference at the run's own sample times."""
-    from compare.accuracy.reference import cached_reference
+    from compare.oracle.reference import cached_reference
     from custom_sim import SimulationDiverged, simulate
     from mujoco_models import simulate_mujoco
 

@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 
-from compare.accuracy.reference import Equations
+from compare.oracle.reference import Equations
 from compare.scenarios import load
 from compare.usersim import diagnosis, load_simulator, render_markdown, run_user
 from compare.usersim.moments import pick_moments
@@ -143,7 +143,7 @@ def test_every_picked_contact_moment_carries_a_contact_force():
     a touching point under a normal force (the seed's law, evaluated here), and a resting body
     carries its weight: the elastic ball never rests (before: 'resting' at the turning point of
     a bounce, under 16 times its weight)."""
-    from compare.accuracy.force_law import accelerations
+    from compare.oracle.force_law import accelerations
     for name in ("point_drop", "box_drop", "rolling_circle", "elastic_bounce"):
         scene = load(name)
         states = simulate(scene).states()

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from compare.accuracy.reference import solve_reference
+from compare.oracle.reference import solve_reference
 from compare.accuracy.workprecision import (GRID, Run, cheapest, clearly_faster, custom_grid_run, custom_ladder,
                                            fastest, grid_times, position_errors, ranking, run_sweep)
 from custom_sim import INTEGRATORS

@@ -3,7 +3,7 @@
 For every scene (following DiffEqDevTools' work-precision diagrams, docs/physics.md "Accuracy
 against cost"):
 
-  reference    compare.accuracy.reference: custom_sim's equations by DOP853 at tight tolerance with
+  reference    compare.oracle.reference: custom_sim's equations by DOP853 at tight tolerance with
                every contact switch located as an event; its convergence is checked by the
                change when the tolerance is tightened 100-fold, and its sensitivity by the
                growth of a tiny change of the initial height (the error amplification).
@@ -43,7 +43,7 @@ import numpy as np
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Stepper, mass_properties
 from custom_sim.energy import energy_parts
 
-from . import reference as ref_mod
+from ..oracle import reference as ref_mod
 from .stability_search import energy_scale, energy_verdict
 
 GRID = 2e-3          # s: errors are measured every 2 ms (every step size below divides it)

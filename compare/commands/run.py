@@ -208,7 +208,7 @@ def prepare_workers() -> None:
     import compare.verdict.contact_check  # noqa: F401
     import compare.verdict.dynamics_check  # noqa: F401
     import compare.verdict.step_check  # noqa: F401
-    import compare.accuracy.reference  # noqa: F401
+    import compare.oracle.reference  # noqa: F401
     from mujoco_models.passive import callback
     callback()
 

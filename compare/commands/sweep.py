@@ -345,7 +345,7 @@ STABILITY_HEADER = [
 
 
 def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
-    from ..accuracy.reference import REFERENCE_RTOL
+    from ..oracle.reference import REFERENCE_RTOL
     from ..accuracy.stability_search import ENERGY_GROWTH_LIMIT, QUIET_CONTACT_SHARE
     from ..accuracy.workprecision import GRID, LADDER, MUJOCO_CONVERGED_N, MUJOCO_LADDER, RUN_BUDGET
 
@@ -361,7 +361,7 @@ def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
         f"{REFERENCE_RTOL:g}, each contact switch (a point touching or leaving, the kink of the damping law; "
         f"the sign of omega under a sign(omega) rolling law) located as an event and the integration "
         f"restarted there "
-        f"(compare/accuracy/reference.py). *Converged* = the change when the tolerance is tightened 100-fold.",
+        f"(compare/oracle/reference.py). *Converged* = the change when the tolerance is tightened 100-fold.",
         f"- **Error**: distance between centres of mass, simulator against reference, every {GRID * 1e3:g} ms; "
         f"max and RMS (L2) over the run. MuJoCo's error is given twice: against its own converged solution "
         f"(RK4 at dt = {GRID / MUJOCO_CONVERGED_N:g} s: numerical error only) and against our reference "

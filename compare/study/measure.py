@@ -13,7 +13,7 @@ Per run (units m, s):
                              largest kinetic energy is numerical (a bounded chatter that gains
                              no energy passes this test: custom_sim's detector is the one for it)
     position_error_max       max over the samples of |p - p_ref|, the centre-of-mass distance to
-                             the reference (compare/accuracy/reference.py: DOP853, every contact
+                             the reference (compare/oracle/reference.py: DOP853, every contact
                              switch an event), read every SAMPLE seconds
     twin_position_error_max  max over the samples both step sequences share of |p - p_mujoco|,
                              the MuJoCo twin of the same scene (its [mujoco] settings)
@@ -39,7 +39,7 @@ SAME_TIME = 1e-12
 
 def reference_states(scene, times: np.ndarray, cache_dir: str | None):
     """(states (T, 6) at `times`, "") or (None, why) when the reference cannot follow the motion."""
-    from ..accuracy.reference import ReferenceError, cached_reference
+    from ..oracle.reference import ReferenceError, cached_reference
 
     try:
         return cached_reference(scene, times, cache_dir).states, ""

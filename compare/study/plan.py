@@ -20,7 +20,7 @@ import numpy as np
 from custom_sim import INTEGRATORS, Scene
 from custom_sim.scene import MujocoSettings, Tolerance
 
-from ..accuracy.reference import REFERENCE_VERSION
+from ..oracle.reference import REFERENCE_VERSION
 from .fields import SceneSource, Vary
 
 # Bump when what a run measures changes: results kept from an older version are not reused.

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from compare.accuracy.reference import Equations
+from compare.oracle.reference import Equations
 from compare.verdict.mistakes import (RESTING_LOAD, carries_weight, contact_loads, least_acting_force,
                                       rebound_score)
 from custom_sim import Scene

@@ -50,7 +50,7 @@ class Case:
 
     @cached_property
     def equations(self):
-        from ..accuracy.reference import Equations
+        from ..oracle.reference import Equations
         return Equations.from_scene(self.scene)
 
     def variant(self, integrator: str | None = None) -> Scene:
@@ -78,9 +78,9 @@ class Case:
         return self._once(("states", scene, integrator, dt), lambda: run_states(scene, integrator, dt))
 
     def reference(self):
-        """The converged reference (accuracy.reference.solve_reference) at the scene's step.
+        """The converged reference (oracle.reference.solve_reference) at the scene's step.
         Raises its ReferenceError."""
-        from ..accuracy.reference import solve_reference
+        from ..oracle.reference import solve_reference
         scene = self.scene
         return self._once(("reference",), lambda: solve_reference(scene, np.arange(scene.steps + 1) * scene.dt))
 
@@ -103,5 +103,5 @@ def _mujoco_diverged():
 
 
 def _no_reference():
-    from ..accuracy.reference import ReferenceError
+    from ..oracle.reference import ReferenceError
     return ReferenceError

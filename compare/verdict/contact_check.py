@@ -33,7 +33,7 @@ import numpy as np
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 from custom_sim.bodies import contact_points_world
 
-from ..accuracy.reference import ReferenceError as NoReference
+from ..oracle.reference import ReferenceError as NoReference
 from .impedance import NativeDiverged, native_run
 from .sensitivity import spread
 
@@ -65,7 +65,7 @@ def contact_scene(scene: Scene) -> Scene:
 
 def converged(scene: Scene, t: np.ndarray) -> np.ndarray:
     """The scene's model solved to convergence (the reference), at times t (s): (len(t), 6)."""
-    from ..accuracy.reference import solve_reference
+    from ..oracle.reference import solve_reference
     return solve_reference(scene, t).states
 
 

@@ -29,8 +29,8 @@ from typing import Callable
 
 import numpy as np
 
-from compare.accuracy.force_law import SEED_LAW, Law, arms, contact_state
-from compare.accuracy.reference import Equations
+from compare.oracle.force_law import SEED_LAW, Law, arms, contact_state
+from compare.oracle.reference import Equations
 
 from .one_step import METHODS, one_step
 from .step_check import COMPONENTS, check_step, phase, split_arrays, step_residuals

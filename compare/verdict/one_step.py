@@ -1,7 +1,7 @@
 """One step of each of the four integrators from many states at once, with its round-off bound.
 
 Written here, independently of custom_sim/integrators.py. z = [q, v], q = (x, y, theta),
-v = (vx, vy, omega), a(q, v) the force law of compare/accuracy/force_law.py, step h (s):
+v = (vx, vy, omega), a(q, v) the force law of compare/oracle/force_law.py, step h (s):
 
     explicit Euler        v1 = v0 + h a(q0, v0)        q1 = q0 + h v0
     semi-implicit Euler   v1 = v0 + h a(q0, v0)        q1 = q0 + h v1     (seed Algorithm 1, lines 7-8)
@@ -30,8 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from compare.accuracy.force_law import SEED_LAW, Law, accelerations, arms
-from compare.accuracy.reference import Equations
+from compare.oracle.force_law import SEED_LAW, Law, accelerations, arms
+from compare.oracle.reference import Equations
 
 EPS = np.finfo(float).eps
 # Two roundings per state update (h a, then z0 + h a) in each of the two codes.
@@ -287,7 +287,7 @@ def jump_defect(eq: Equations, Z, Z1, h: float, law: Law = SEED_LAW):
     being G at v1 with point j counted as touching and as not. Returns (defect (N, 6), point j
     (N,), depth d_j(q1) (N,) m): the velocity part of defect is that hull residual (m/s, rad/s),
     the position part |q1 - q0 - h v1| (m, rad)."""
-    from compare.accuracy.force_law import contact_state
+    from compare.oracle.force_law import contact_state
     Z, Z1 = np.atleast_2d(Z), np.atleast_2d(Z1)
     V = Z1[:, 3:]
     Zi = np.hstack([Z[:, :3] + h * V, V])

@@ -284,7 +284,7 @@ def reference_rows(case: Case, tested: dict, runs: dict, own_model: bool = True)
     test, beside custom_sim's for the same integrator (shown, not judged); and the reference's
     states. For custom_sim (own_model) the difference is the integrator's error at this dt; for
     another simulator it is model and integration together."""
-    from ..accuracy.reference import ReferenceError
+    from ..oracle.reference import ReferenceError
 
     rows = []
     try:

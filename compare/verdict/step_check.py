@@ -1,7 +1,7 @@
 """Check `step`: every step of a trajectory against one independent step from the same state.
 
 For each i, one step of the trajectory's integrator from states[i], taken with the reference's
-own right-hand side (compare/accuracy/force_law.py, geometry from rigid_body.py) and its own
+own right-hand side (compare/oracle/force_law.py, geometry from rigid_body.py) and its own
 one-step maps (one_step.py), must land on states[i+1] to round-off. Nothing is integrated over
 more than one step, so the tumbling motion's sensitivity cannot hide or fake a difference, and
 nothing is taken from custom_sim: the check is the same for any simulator.
@@ -15,8 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from compare.accuracy.force_law import SEED_LAW, Law, contact_state
-from compare.accuracy.reference import Equations
+from compare.oracle.force_law import SEED_LAW, Law, contact_state
+from compare.oracle.reference import Equations
 
 from .one_step import (FORCE_ULPS, IMPLICIT_SOLVE_TOL, INPUT_ROUNDING_SAFETY, METHODS, STATE_ULPS, Rounding,
                        jump_defect, one_step)

@@ -1,7 +1,7 @@
 """Reference solutions: custom_sim's equations solved far more accurately than any fixed step.
 
 The equations are those of custom_sim/forces.py, written again here, independently, in plain
-Python floats; the geometry too is computed here (compare/accuracy/rigid_body.py: area moments
+Python floats; the geometry too is computed here (compare/oracle/rigid_body.py: area moments
 by Green's theorem), so that nothing checked against the reference is shared with custom_sim:
 
     m v' = sum_i (Ft_i, Fn_i) + (0, -m g)          I omega' = sum_i (r_i x F_i) - mu_roll Fn s(omega)
