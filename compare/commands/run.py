@@ -2,10 +2,11 @@
 
 SCENE is a built-in name (see `list`) or a path to a scene file; without SCENE every
 built-in scenario runs. Writes DIR/index.md and DIR/<name>/ (metrics.json, trajectory
-CSVs, model.xml, plots), beside DIR first, then moved into place whole. Exit status: 0 every
-scenario judged and every judged check within its tolerance; 1 a check outside it, or a
-scenario that could not be judged (nothing judged, unstable, timed out, or an error: its row
-says why); 2 bad input (nothing is written); 130 stopped with Ctrl-C (nothing is written).
+CSVs, model.xml, plots), into a hidden folder first, then moved into place whole. Exit
+status: 0 every scenario judged and every judged check within its tolerance; 1 a check
+outside it, or a scenario that could not be judged (nothing judged, unstable, timed out, or an
+error: its row says why); 2 bad input (nothing is written); 130 stopped with Ctrl-C (nothing
+is written).
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """A new report written beside the old one, then moved into place whole, or not at all.
 
-    with report_aside(out) as work:   # a fresh folder beside `out`
+    with report_aside(out) as work:   # a hidden fresh folder in `out` (or beside it, before it exists)
         ... write index.md and the scenario folders into work ...
     # leaving the block without an exception: the old report's files leave `out`, the new
     # ones take their place; with an exception: work is removed and `out` is untouched
