@@ -204,18 +204,9 @@ class Engine:
         split(task) -> tasks of one run each (resubmitted after a first failure); failed(task,
         reason) -> the result of a task that failed twice (default: raise RuntimeError)."""
         from distributed import as_completed
-        from tqdm import tqdm
 
-        results: dict[str, Any] = {}
-        todo = []
-        for task in tasks:
-            done = store.load(task.key) if store else None
-            if done is not None:
-                results[task.key] = done
-            else:
-                todo.append(task)
-        bar = tqdm(total=sum(t.runs for t in tasks), initial=sum(t.runs for t in tasks) - sum(t.runs for t in todo),
-                   desc=desc, unit="run", file=sys.stderr, delay=1, disable=not progress)
+        results, todo = _from_store(tasks, store)
+        bar = _bar(tasks, todo, desc, progress)
         pending = {}
 
         def submit(task: Task):
@@ -231,16 +222,8 @@ class Engine:
                 self._keep(results, store, task.key, result)
                 bar.update(task.runs)
                 continue
-            reason = _reason(future)
-            if task.attempt >= 2:
-                if failed is None:
-                    bar.close()
-                    raise RuntimeError(f"{desc}: task {task.key} failed twice: {reason}")
-                self._keep(results, store, task.key, failed(task, reason))
-                bar.update(task.runs)
-                continue
-            retry = split(task) if (split and task.runs > 1) else [replace(task, attempt=2)]
-            self.retried += 1
+            retry = _after_failure(task, _reason(future), desc, results, store, split, failed, bar)
+            self.retried += bool(retry)
             for t in retry:
                 stream.add(submit(t))
         bar.close()
@@ -251,6 +234,41 @@ class Engine:
         results[key] = result
         if store is not None:
             store.save(key, result)
+
+
+def _from_store(tasks: list[Task], store: Store | None) -> tuple[dict[str, Any], list[Task]]:
+    """(the results `store` already holds, by task key; the tasks still to run)."""
+    results, todo = {}, []
+    for task in tasks:
+        done = store.load(task.key) if store else None
+        if done is not None:
+            results[task.key] = done
+        else:
+            todo.append(task)
+    return results, todo
+
+
+def _bar(tasks: list[Task], todo: list[Task], desc: str, progress: bool):
+    from tqdm import tqdm
+
+    total = sum(t.runs for t in tasks)
+    return tqdm(total=total, initial=total - sum(t.runs for t in todo), desc=desc, unit="run",
+                file=sys.stderr, delay=1, disable=not progress)
+
+
+def _after_failure(task: Task, reason: str, desc: str, results: dict, store: Store | None,
+                   split, failed, bar) -> list[Task]:
+    """The tasks to submit again after `task` failed: on a first failure, the task split into its
+    runs (or once more); on a second, none: its result is failed(task, reason) (without
+    `failed`, RuntimeError)."""
+    if task.attempt < 2:
+        return split(task) if (split and task.runs > 1) else [replace(task, attempt=2)]
+    if failed is None:
+        bar.close()
+        raise RuntimeError(f"{desc}: task {task.key} failed twice: {reason}")
+    Engine._keep(results, store, task.key, failed(task, reason))
+    bar.update(task.runs)
+    return []
 
 
 def _reason(future) -> str:
@@ -315,19 +333,9 @@ class PoolEngine:
         from concurrent.futures import FIRST_COMPLETED, wait
         from concurrent.futures.process import BrokenProcessPool
 
-        from tqdm import tqdm
-
-        results: dict[str, Any] = {}
-        todo: deque[Task] = deque()
-        for task in tasks:
-            done = store.load(task.key) if store else None
-            if done is not None:
-                results[task.key] = done
-            else:
-                todo.append(task)
-        total = sum(t.runs for t in tasks)
-        bar = tqdm(total=total, initial=total - sum(t.runs for t in todo), desc=desc, unit="run",
-                   file=sys.stderr, delay=1, disable=not progress)
+        results, waiting = _from_store(tasks, store)
+        todo: deque[Task] = deque(waiting)
+        bar = _bar(tasks, waiting, desc, progress)
         running: dict = {}   # future -> (task, lane)
         try:
             while todo or running:
@@ -349,14 +357,9 @@ class PoolEngine:
                         reason = "the worker running it died"
                     else:
                         reason = f"{type(exc).__name__}: {exc}"
-                    if task.attempt >= 2:
-                        if failed is None:
-                            raise RuntimeError(f"{desc}: task {task.key} failed twice: {reason}")
-                        Engine._keep(results, store, task.key, failed(task, reason))
-                        bar.update(task.runs)
-                        continue
-                    self.retried += 1
-                    todo.extend(split(task) if (split and task.runs > 1) else [replace(task, attempt=2)])
+                    retry = _after_failure(task, reason, desc, results, store, split, failed, bar)
+                    self.retried += bool(retry)
+                    todo.extend(retry)
         finally:
             bar.close()
         return results

@@ -31,6 +31,7 @@ class Outcome:
     row: dict | None = None            # metrics.json of a scenario that reached a verdict
     failure: tuple | None = None       # (status, why): no verdict (error, unstable, timeout)
     bad_input: tuple | None = None     # (message, details): the user's code broke the protocol
+    details: str = ""                  # with a failure: the user's own traceback, where their code raised
 
 
 class Interrupted(Exception):

@@ -192,7 +192,7 @@ def test_a_slow_step_shows_progress_and_times_out(tmp_path, capfd):
     start = time.monotonic()
     outcomes = run_scenes([scene], lambda s: run_one(s, str(tmp_path), sim), jobs=1, timeout=3.0)
     took = time.monotonic() - start
-    status, why = outcomes["point_drop"].failure[:2]
+    status, why = outcomes["point_drop"].failure
     assert status == "timeout" and "at point_drop at step" in why and took < 6.0, (why, took)
     err = capfd.readouterr().err
     assert "point_drop: step" in err and "steps/s" in err, err
@@ -376,3 +376,54 @@ def test_nan_exception_and_blow_up_are_the_scenes_fault_not_bad_input(tmp_path, 
         assert "at step" in str(err.value), str(err.value)
         assert isinstance(err.value, UserDiverged) == (name == "huge")
     assert not issubclass(UserFault, UserCodeError) and issubclass(EndedProcess, UserCodeError)
+
+
+# --- the checks this issue changed fail on a real mistake ----------------------------------------
+
+def _stiffer(tmp_path, integrator_line: str) -> str:
+    """The outsider RK4 simulator with its contact stiffness 5 % high: a model mistake."""
+    text = (ROOT / "tests" / "outsiders" / "oo_rk4.py").read_text()
+    text = text.replace('INTEGRATOR = "rk4"', integrator_line)
+    text = text.replace('fn = self.c["k"] * depth', 'fn = 1.05 * self.c["k"] * depth')
+    text = text.replace('fn = max(0.0, self.c["k"] * depth', 'fn = max(0.0, 1.05 * self.c["k"] * depth')
+    assert text.count("1.05 *") == 2
+    path = tmp_path / "stiffer.py"
+    path.write_text(text)
+    return str(path) + ":step"
+
+
+@pytest.mark.parametrize("declared", ['INTEGRATOR = "rk4"', 'INTEGRATOR = "other:ode45"'])
+def test_contact_under_a_declared_integrator_fails_a_stiffness_mistake(tmp_path, declared):
+    """The contact check's integrator term now follows the declared integrator (and, for one the
+    harness does not know, the converged solution): it must not swallow a 5 % stiffness error."""
+    from compare.verdict.contact_check import check_contact, contact_scene
+
+    scene = dataclasses.replace(load("point_drop"), duration=0.6)
+    sim = load_simulator(_stiffer(tmp_path, declared))
+    states = run_user(sim, contact_scene(scene)).states()
+    row = check_contact(scene, states, sim.integrator_for(scene))
+    assert row["pass"] is False, (row["position_error_max"], row["tolerance_position"], row["reason"])
+    honest = load_simulator(str(ROOT / "tests" / "outsiders" / "oo_rk4.py") + ":step")
+    row = check_contact(scene, run_user(honest, contact_scene(scene)).states(), declared.split('"')[1])
+    assert row["pass"] is True, (row["position_error_max"], row["tolerance_position"], row["reason"])
+
+
+def test_dynamics_with_a_files_rounding_still_fails_a_mistake(tmp_path):
+    """dynamics adds a CSV's half unit to its tolerance: a correct file at %.6f passes, a file of
+    a run with g 0.1 % off at the same %.6f fails."""
+    from compare.usersim import load_simulator as load_sim
+    from compare.verdict.dynamics_check import check_dynamics
+    from custom_sim import simulate
+
+    scene = dataclasses.replace(load("box_slide"), duration=0.3)
+    rows = {}
+    for name, run_scene in {"right": scene, "wrong": dataclasses.replace(scene, g=scene.g * 1.001)}.items():
+        folder = tmp_path / name
+        folder.mkdir()
+        states = simulate(run_scene).states()
+        np.savetxt(folder / f"{scene.name}.csv", np.column_stack([np.arange(len(states)) * scene.dt, states]),
+                   fmt="%.6f", delimiter=",", header="t,x,y,theta,vx,vy,omega", comments="")
+        run = run_user(load_sim(trajectories=str(folder)), scene)
+        rows[name] = check_dynamics(scene, run.states(), scene.integrator, scene.dt, run.meta["rounding"])
+    assert rows["right"]["pass"] is True, rows["right"]["reason"]
+    assert rows["wrong"]["pass"] is False, (rows["wrong"]["position_error_max"], rows["wrong"]["tolerance_position"])

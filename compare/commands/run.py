@@ -74,7 +74,7 @@ def run_one(scene, out: str, simulator=None):
 
         result = run_scenario(scene, simulator)
         if result.error:
-            return Outcome(failure=(result.status, result.error, result.error_details))
+            return Outcome(failure=(result.status, result.error), details=result.error_details)
         return Outcome(row=write_scenario(result, Path(out), to_mjcf(scene)))
     except UserCodeError as exc:
         return Outcome(bad_input=(str(exc), exc.details))
@@ -176,9 +176,8 @@ def _run(args) -> int:
             if bad:
                 raise UserCodeError(*bad[0])
             rows = [outcomes[s.name].row for s in scenes if outcomes[s.name].row is not None]
-            failed = [(s.name, *outcomes[s.name].failure[:2]) for s in scenes if outcomes[s.name].failure]
-            details = [outcomes[s.name].failure[2] for s in scenes if outcomes[s.name].failure
-                       and len(outcomes[s.name].failure) > 2 and outcomes[s.name].failure[2]]
+            failed = [(s.name, *outcomes[s.name].failure) for s in scenes if outcomes[s.name].failure]
+            details = [outcomes[s.name].details for s in scenes if outcomes[s.name].details]
             index = write_index(work, rows, failed)
     except Interrupted as exc:
         print(f"interrupted: {exc}; nothing written", file=sys.stderr)

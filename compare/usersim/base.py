@@ -107,16 +107,6 @@ class _Simulator:
         probe False: the step is not called from chosen states (it keeps state between calls,
         so an answer out of order would not be the one its run used): the trajectory alone."""
         from .diagnosis import diagnosis
-        return diagnosis(self if probe else _TrajectoryOnly(self), scene, trajectory.states(),
-                         trajectory.meta.get("rounding"), case)
-
-
-class _TrajectoryOnly:
-    """A simulator seen by the diagnosis without its step function."""
-
-    kind = "trajectory only"
-
-    def __init__(self, simulator):
-        self.integrator_for = simulator.integrator_for
+        return diagnosis(self, scene, trajectory.states(), trajectory.meta.get("rounding"), case, probe)
 
 

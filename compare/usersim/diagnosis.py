@@ -27,6 +27,7 @@ import numpy as np
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
 from ..verdict import mistakes
+from ..verdict.case import as_case
 from .errors import UserCodeError, UserFault
 from .moments import not_probed, pick_moments
 from .scene_dict import scene_dict
@@ -40,9 +41,7 @@ def _moments(simulator, scene: Scene, integrator: str, also=(), case=None) -> di
     """The user's step from custom_sim's states at the chosen moments, in time order; `also`:
     mistakes whose reproduction of every moment is wanted (the trajectory's explanation);
     case: the scenario's Case, whose custom_sim runs it takes."""
-    if case is None:
-        from ..verdict.case import Case
-        case = Case(scene)
+    case = as_case(scene, case)
     run_integrator = integrator if integrator in INTEGRATORS else None
     run_scene = case.variant(run_integrator)
     try:
@@ -122,7 +121,7 @@ def _named(*explained: list[str]) -> list[dict]:
              "description": mistakes.BY_NAME[n].description} for n in names]
 
 
-def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=None) -> dict:
+def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=None, probe: bool = True) -> dict:
     """The diagnosis of the user's run `states` (steps + 1, 6) of `scene` (JSON-safe dict):
 
     integrator    the one the simulator names
@@ -144,7 +143,7 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
     states = np.asarray(states, dtype=float)
     traj = mistakes.diagnose(scene, states, integrator, scene.dt, input_rtol=rounding or 0.0)
     moments = (_moments(simulator, scene, integrator, also=traj.get("explained_by", []), case=case)
-               if getattr(simulator, "kind", "") == "step" else None)
+               if probe and getattr(simulator, "kind", "") == "step" else None)
     names, not_named = _decide(traj, moments, scene, states, integrator)
     named = _named(names)
     step_row = traj.get("step", {})

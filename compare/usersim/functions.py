@@ -154,26 +154,34 @@ def as_state(value, where: str) -> tuple[np.ndarray, bool]:
                         "a list, a tuple or an array of shape (6,))")
 
 
-class StepFunction(_Simulator):
-    """`step(state, scene, dt) -> state`, called in a plain Python loop (see the module's protocol)."""
+class _Function(_Simulator):
+    """A user's function named by MODULE:FUNCTION: imported now (its faults are bad input before
+    anything runs) and again at the start of every run (fresh)."""
 
-    kind = "step"
+    signature = ""
 
     def __init__(self, spec: str):
         self.spec = spec
-        self.function, self.module = load_function(spec, "step(state, scene, dt) -> state")
         self.label = spec
-        self.float32 = False
+        self.fresh()
 
     def __reduce__(self):  # another process imports it by name
-        return (StepFunction, (self.spec,))
+        return (type(self), (self.spec,))
 
     def integrator_for(self, scene: Scene) -> str:
         return declared_integrator(getattr(self.module, "INTEGRATOR", None), f"{self.spec}: INTEGRATOR", scene)
 
     def fresh(self) -> None:
         """Import the module again: a new module state, as at the start of a run."""
-        self.function, self.module = load_function(self.spec, "step(state, scene, dt) -> state")
+        self.function, self.module = load_function(self.spec, self.signature)
+
+
+class StepFunction(_Function):
+    """`step(state, scene, dt) -> state`, called in a plain Python loop (see the module's protocol)."""
+
+    kind = "step"
+    signature = "step(state, scene, dt) -> state"
+    float32 = False   # set once a step has returned float32 (warned once)
 
     def call(self, state, scene_d: dict, dt: float, step: int = 1) -> np.ndarray:
         """One checked call from a copy of `state` (the diagnosis's probe)."""
@@ -240,24 +248,18 @@ def _non_finite(spec: str, out: np.ndarray, row: int, dt: float) -> UserFault:
                      f"(t = {row * dt:.6g} s) from {_state_text(out[row - 1])} (expected 6 finite numbers {STATE})")
 
 
-class WholeFunction(_Simulator):
+class WholeFunction(_Function):
     """`simulate(scene) -> array (steps + 1, 6)` (or 7 columns, the 7th the energy in J)."""
 
     kind = "whole"
+    signature = "simulate(scene) -> array (steps + 1, 6)"
 
     def __init__(self, spec: str):
-        self.spec = spec
-        self.function, self.module = load_function(spec, "simulate(scene) -> array (steps + 1, 6)")
+        super().__init__(spec)
         self.label = spec + " (whole)"
 
-    def __reduce__(self):
-        return (WholeFunction, (self.spec,))
-
-    def integrator_for(self, scene: Scene) -> str:
-        return declared_integrator(getattr(self.module, "INTEGRATOR", None), f"{self.spec}: INTEGRATOR", scene)
-
     def _run(self, scene: Scene) -> UserRun:
-        self.function, self.module = load_function(self.spec, "simulate(scene) -> array (steps + 1, 6)")
+        self.fresh()
         n = scene.steps
         where = f"{self.spec} on scene {scene.name}"
         start = time.perf_counter()

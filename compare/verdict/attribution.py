@@ -29,6 +29,8 @@ import numpy as np
 
 from custom_sim import Scene, SimulationDiverged
 
+from .case import as_case
+
 
 CAUSES = {
     "native": "MuJoCo's own contact with the penalty mapping and every effect of the scene: all the "
@@ -82,9 +84,7 @@ def rungs(scene: Scene, native_run=None, case=None) -> list[tuple[str, callable]
     scenario's Case, which runs each custom_sim variant once."""
     from mujoco_models import simulate_mujoco
 
-    if case is None:
-        from .case import Case
-        case = Case(scene)
+    case = as_case(scene, case)
     ours = case.states
     mj_integrator = scene.mujoco.integrator
     mj_dt = scene.mujoco.dt or scene.dt
@@ -128,9 +128,7 @@ def attribute(scene: Scene, native=None, case=None) -> list[dict]:
     penalty mapping, if the caller has run it."""
     from mujoco_models import MujocoDiverged
 
-    if case is None:
-        from .case import Case
-        case = Case(scene)
+    case = as_case(scene, case)
     reference = case.states(scene, scene.integrator, scene.dt)
     out, before = [], None
     for name, run in rungs(scene, native, case):

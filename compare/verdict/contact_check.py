@@ -34,6 +34,7 @@ from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 from custom_sim.bodies import contact_points_world
 
 from ..oracle.reference import ReferenceError as NoReference
+from .case import as_case
 from .impedance import NativeDiverged, native_run
 from .sensitivity import spread
 
@@ -77,6 +78,11 @@ def _row(integrator: str, **values) -> dict:
     return row
 
 
+def not_judged(integrator: str, why: str) -> dict:
+    """The row of a contact check that could not be judged, and why."""
+    return _row(integrator, reason=f"not judged: {why}")
+
+
 def _motion(states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Range of the COM path (m) and of the angle (rad) over [0, t], for every t."""
     def running_range(a):
@@ -96,9 +102,7 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, int
     harness does not know ("other:NAME"), the integrator term is MuJoCo's own integration error
     against the converged solution, and the simulator's own error counts against it. case: the
     scenario's Case (case.py), which runs each custom_sim variant once."""
-    if case is None:
-        from .case import Case
-        case = Case(scene)
+    case = as_case(scene, case)
     bare = contact_scene(scene)
     integrator = integrator or scene.integrator
     known = integrator in INTEGRATORS

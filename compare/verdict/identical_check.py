@@ -21,6 +21,7 @@ import numpy as np
 
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
+from .case import as_case
 from .one_step import Rounding
 
 # A file whose rounding moves the body's points by more than this fraction of the motion's size
@@ -60,9 +61,7 @@ def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt
     if not np.isclose(dt, scene.dt, rtol=1e-12, atol=0.0):
         return _row(integrator=integrator,
                     reason=f"not judged: dt = {dt:g} s differs from the scene's {scene.dt:g} s")
-    if case is None:
-        from .case import Case
-        case = Case(scene)
+    case = as_case(scene, case)
     try:
         ours = case.trajectory(integrator).states()
         envelope = case.envelope(integrator)

@@ -253,18 +253,14 @@ def contact_row(case: Case, simulator, integrator: str | None = None) -> dict:
     law MuJoCo has), against MuJoCo's own contact. A user's simulator is run again on that
     variant, which the harness made up: where it cannot run it (precomputed trajectories) or
     refuses it (raises, fails), the check is not judged, with the user's message; the rest stand."""
-    from .contact_check import ISOLATES, check_contact, contact_scene
+    from .contact_check import check_contact, contact_scene, not_judged
 
     scene = case.scene
     if simulator is None:
         return check_contact(scene, case=case)
 
-    def not_judged(why: str) -> dict:
-        return {"name": "contact", "isolates": ISOLATES, "integrator": integrator,
-                "position_error_max": None, "angle_error_max": None,
-                "tolerance_position": None, "tolerance_angle": None, "pass": None, "reason": f"not judged: {why}"}
     if not simulator.reruns:
-        return not_judged("needs a run of the scene with friction off, which precomputed trajectories cannot "
+        return not_judged(integrator, "needs a run of the scene with friction off, which precomputed trajectories cannot "
                           "give (bring a step function)")
     from ..usersim import UserCodeError, UserFault, run_user
     from ..usersim.guard import EndedProcess
@@ -274,7 +270,7 @@ def contact_row(case: Case, simulator, integrator: str | None = None) -> dict:
     except EndedProcess:
         raise
     except (UserFault, UserCodeError) as exc:
-        return not_judged(f"your simulator did not run the variant this check needs (friction and rolling "
+        return not_judged(integrator, f"your simulator did not run the variant this check needs (friction and rolling "
                           f"resistance off, the linear damping law): {exc}")
     return check_contact(scene, states, integrator, case=case)
 
