@@ -14,7 +14,7 @@ import os
 import sys
 from pathlib import Path
 
-from custom_sim import SceneError
+from scene_types import BadInput, SceneError
 
 COMMANDS = {
     "list": "compare.commands.list_scenes",
@@ -32,10 +32,6 @@ COMMANDS = {
 
 EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2
 EXIT_INTERRUPTED = 130   # Ctrl-C, as a shell reports a process stopped by SIGINT
-
-
-class BadInput(ValueError):
-    """Bad input that is not a scene file's (an option's value): `what: message`."""
 
 
 def output_folder(out: str) -> Path:

@@ -54,7 +54,7 @@ def dask_available() -> bool:
 def require_dask(what: str) -> None:
     """Bad input, one line, when Dask is missing: '<what> needs Dask: pip install ...'."""
     if not dask_available():
-        from .cli import BadInput
+        from scene_types import BadInput
         raise BadInput(f"{what} needs Dask: {STUDY_EXTRA}")
 
 
@@ -161,7 +161,7 @@ class Engine:
         self.scheduler = scheduler
         self.cluster = None
         if scheduler:
-            from .cli import BadInput
+            from scene_types import BadInput
             try:
                 self.client = Client(scheduler, timeout=CONNECT_TIMEOUT)
             except (OSError, TimeoutError) as exc:

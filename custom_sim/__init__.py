@@ -5,10 +5,10 @@ clear_if_sources_changed()
 
 from .bodies import MassProperties, mass_properties  # noqa: E402
 from .integrators import INTEGRATORS, Integrator
-from .scene import Scene, SceneError, load_scene, parse_scene
+from scene_types import Scene, SceneError, load_scene, parse_scene
 from .simulate import SimulationChattered, SimulationDiverged, Stepper, simulate
 from .stability import stable_step
-from .trajectory import CsvError, Trajectory, read_csv, write_csv
+from scene_types import CsvError, Trajectory, read_csv, write_csv
 
 __all__ = [
     "CsvError", "INTEGRATORS", "Integrator", "MassProperties", "Scene", "SceneError", "SimulationChattered",

@@ -32,7 +32,7 @@ from .chatter import WATCH_COLUMNS
 from .integrators import (FORCE_EVALS, IMPLICIT_EULER, INTEGRATORS, NEWTON_ITERS, integrate_explicit,
                           integrate_implicit)
 from .model import Model, build_model, initial_state
-from .scene import Scene
+from scene_types.schema import Scene
 from .simulate import blowup_guard
 
 # OpenMP threads that finish their share of a batch sleep instead of spinning: a spinning

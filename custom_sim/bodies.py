@@ -10,7 +10,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .scene import Body
+from scene_types.schema import Body
 
 
 @dataclass(frozen=True)

@@ -78,7 +78,7 @@ def warm_up(stream=None, part=None) -> float:
     import dataclasses
 
     from .integrators import INTEGRATORS, first_unhealthy
-    from .scene import parse_scene
+    from scene_types.schema import parse_scene
     from .simulate import blowup_guard, simulate
 
     start = time.perf_counter()

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .bodies import MassProperties, contact_points_world
-from .scene import Scene
+from scene_types.schema import Scene
 
 
 def energy_parts(scene: Scene, props: MassProperties, states: np.ndarray):

@@ -11,7 +11,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .bodies import MassProperties, mass_properties
-from .scene import Scene
+from scene_types.schema import Scene
 
 COMPRESSION, LINEAR = 0, 1  # damping laws, see contact_force in forces.py
 

@@ -15,9 +15,9 @@ from .energy import energy_parts
 from .integrators import (FORCE_EVALS, INTEGRATORS, NEWTON_FAILS, NEWTON_ITERS, NEWTON_MAX,
                           integrate)
 from .model import build_model, initial_state
-from .scene import Scene
+from scene_types.schema import Scene
 from .stability import stable_step
-from .trajectory import Trajectory
+from scene_types.trajectory import Trajectory
 
 # A state beyond these has blown up: far above anything a scene's energy allows (the
 # fastest stress scene hits the ground at 30 m/s and spins at 100 rad/s).

@@ -61,7 +61,7 @@ import numpy as np
 from .bodies import mass_properties
 from .chatter import CHATTER_STEPS
 from .forces import ROLL_SHARPNESS
-from .scene import Scene
+from scene_types.schema import Scene
 
 RK4_REAL_LIMIT = 2.785      # h |lambda| on the negative real axis: R(-2.785) = 1
 EULER_REAL_LIMIT = 2.0      # |1 - h lambda| < 1

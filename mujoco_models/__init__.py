@@ -1,6 +1,6 @@
 """MuJoCo twins of the scenes, built with MjSpec from the scene file alone and run by MuJoCo,
 returned as the same Trajectory type as custom_sim.simulate. Nothing here is derived from
-custom_sim: only its scene model (custom_sim.scene) and the Trajectory type are imported.
+custom_sim: only the shared types (scene_types: the scene, its law, the Trajectory) are imported.
 
 Two twins of one body (mass, COM, inertia and contact points from rigid_body.py, written into
 an explicit <inertial>; contact sites at the contact points; energy sensors):

@@ -6,7 +6,7 @@ known error, the integrator and the step. run.py stores the list in Trajectory.m
 """
 from __future__ import annotations
 
-from custom_sim.scene import Scene
+from scene_types.schema import Scene
 
 from .geometry import CONTACT_SPHERE_RADIUS
 

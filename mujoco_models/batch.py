@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from custom_sim.scene import Scene
+from scene_types.schema import Scene
 
 from .frames import joint_count, states_from_q
 from .guard import first_blowup

@@ -21,8 +21,8 @@ rolling resistance; friction_at="midpoint" applies friction where MuJoCo puts it
 """
 from __future__ import annotations
 
-from custom_sim.scene import Scene
-from custom_sim.trajectory import Trajectory
+from scene_types.schema import Scene
+from scene_types.trajectory import Trajectory
 
 from .passive import installed, law_parameters
 from .run import setup_rollout, timed_rollout, trajectory_from

@@ -7,7 +7,7 @@ spin about the ground normal, so torsion never acts), mu_roll (m).
 """
 from __future__ import annotations
 
-from custom_sim.scene import Scene
+from scene_types.schema import Scene
 
 
 def gravity_vector(scene: Scene) -> tuple[float, float, float]:

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .rigid_body import RigidBody
-from custom_sim.scene import Scene
+from scene_types.schema import Scene
 
 FRICTION_IMPRATIO = 1e4
 

@@ -26,7 +26,7 @@ import math
 from dataclasses import dataclass
 
 from .rigid_body import RigidBody
-from custom_sim.scene import Body
+from scene_types.schema import Body
 
 from .inertial import board_depth, point_draw_radius
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .rigid_body import RigidBody, rigid_body
-from custom_sim.scene import Body
+from scene_types.schema import Body
 
 POINT_DRAW_RADIUS = 0.02  # m: the ball drawn for a point mass with contact_height 0
 

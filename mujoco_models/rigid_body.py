@@ -24,7 +24,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from custom_sim.scene import Body
+from scene_types.schema import Body
 
 
 @dataclass(frozen=True)

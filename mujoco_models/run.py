@@ -16,8 +16,8 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from custom_sim.scene import Scene
-from custom_sim.trajectory import Trajectory
+from scene_types.schema import Scene
+from scene_types.trajectory import Trajectory
 
 from .approximations import approximations
 from .energy import energy_parts, final_sensors

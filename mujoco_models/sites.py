@@ -11,7 +11,7 @@ kinematics (site_xpos, mj_jac). In the body (geometry) frame:
 """
 from __future__ import annotations
 
-from custom_sim.scene import Body
+from scene_types.schema import Body
 
 from .rigid_body import RigidBody
 

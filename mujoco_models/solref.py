@@ -34,7 +34,7 @@ import math
 from dataclasses import dataclass, field
 
 from .rigid_body import RigidBody, rigid_body
-from custom_sim.scene import Scene
+from scene_types.schema import Scene
 
 from .effects import condim_for
 from .friction import penalty_friction_rows, resting_contacts

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import mujoco
 
 from .rigid_body import RigidBody, rigid_body
-from custom_sim.scene import Scene
+from scene_types.schema import Scene
 
 from .effects import condim_for, friction_for, gravity_vector, pair_friction
 from .frames import qpos_qvel

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from custom_sim import load_scene, mass_properties
-from custom_sim.scene import Body, Part
+from scene_types.schema import Body, Part
 
 REL = 1e-12  # exact formulas: only floating-point round-off separates the two sides
 

@@ -17,7 +17,8 @@ from compare.calibration.parameters import PARAMETERS, parse_fit
 from compare.calibration.reverse import prepare_reverse, reverse_fit
 from compare.calibration.settings import calibrated, read_model, write_model
 from compare.calibration.targets import Batch, prepare
-from compare.cli import BadInput, main
+from compare.cli import main
+from scene_types import BadInput
 from compare.scenarios import load
 
 # Gains recovered from a noise-free target made by the twin itself: limited by the finite

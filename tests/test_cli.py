@@ -10,7 +10,7 @@ import pytest
 from compare.cli import COMMANDS, main
 from compare.scenarios import builtin_names
 from custom_sim import read_csv
-from custom_sim.trajectory import CSV_COLUMNS
+from scene_types.trajectory import CSV_COLUMNS
 
 ROOT = Path(__file__).resolve().parent.parent
 

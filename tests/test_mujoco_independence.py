@@ -1,5 +1,5 @@
-"""mujoco_models takes nothing derived from custom_sim: it may read the scene (custom_sim.scene)
-and return the shared Trajectory type (custom_sim.trajectory), nothing else. The one module
+"""mujoco_models takes nothing derived from custom_sim: it may read the scene (scene_types.schema)
+and return the shared Trajectory type (scene_types.trajectory), nothing else. The one module
 that runs custom_sim is the comparison table, which no twin imports."""
 import ast
 from pathlib import Path
@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "mujoco_models"
-ALLOWED = {"custom_sim.scene", "custom_sim.trajectory"}
+ALLOWED = {"scene_types.schema", "scene_types.trajectory"}
 COMPARISON_TOOLS = {"mapping_table.py"}   # prints custom_sim against the twins; imported by no twin
 MODULES = sorted(p for p in PACKAGE.glob("*.py"))
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from compare.scenarios import load_builtins
-from custom_sim.scene import Body, Part
+from scene_types.schema import Body, Part
 from mujoco_models import build_model
 from mujoco_models.geometry import visual_geoms
 from mujoco_models.inertial import derived_inertial, point_draw_radius

@@ -101,14 +101,15 @@ def test_sliding_disk_ends_rolling_at_two_thirds():
     assert abs(vx + omega * R) < 1e-6, (vx, omega)
 
 
-@pytest.mark.parametrize("law", ["custom_sim's", "sign"])
-def test_rolling_resistance_decelerates_a_rolling_disk(monkeypatch, law):
+@pytest.mark.parametrize("law", ["tanh", "sign"])
+def test_rolling_resistance_decelerates_a_rolling_disk(law):
     """Rolling resistance mu_roll Fn on a rolling disk: deceleration 2 mu_roll g / (3 R)
-    (docs/physics.md), under custom_sim's law and under the seed's sign(omega) with its switch
-    located as an event (the law the reference falls back to)."""
-    if law == "sign":
-        monkeypatch.setattr(reference, "_roll_sharpness", lambda: None)
+    (docs/physics.md), under the scene's tanh(roll_sharpness omega) and under the seed's
+    sign(omega) with its switch located as an event."""
     base = load("rolling_circle")
+    if law == "sign":
+        base = dataclasses.replace(base, contact=dataclasses.replace(
+            base.contact, roll_law="sign", roll_sharpness=None))
     R, v0 = base.body.radius, 1.0
     scene = dataclasses.replace(base, initial=dataclasses.replace(
         base.initial, velocity=(v0, 0.0), angular_velocity=-v0 / R))

@@ -38,7 +38,7 @@ def test_every_builtin_and_stress_scene_starts_above_the_allowed_depth(path):
 
     from custom_sim import mass_properties
     from custom_sim.bodies import contact_points_world
-    from custom_sim.scene import allowed_initial_depth
+    from scene_types.schema import allowed_initial_depth
 
     s = load_scene(path)
     i = s.initial

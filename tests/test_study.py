@@ -13,7 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from compare.cli import BadInput, main
+from compare.cli import main
+from scene_types import BadInput
 from compare.executor import Engine
 from compare.study import table
 from compare.study.fields import SceneSource, parse_values, parse_vary

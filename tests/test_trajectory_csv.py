@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from custom_sim import CsvError, load_scene, read_csv, simulate, write_csv
-from custom_sim.trajectory import CSV_COLUMNS, CSV_RELATIVE_ROUNDING, REQUIRED_COLUMNS
+from scene_types.trajectory import CSV_COLUMNS, CSV_RELATIVE_ROUNDING, REQUIRED_COLUMNS
 
 GOOD = "t,x,y,theta,vx,vy,omega\n0,0,0.5,0,1,0,0\n0.001,0.001,0.5,0,1,0,0\n"
 

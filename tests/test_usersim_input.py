@@ -6,7 +6,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from compare.cli import BadInput, main
+from compare.cli import main
+from scene_types import BadInput
 from compare.scenarios import load
 from compare.usersim import UserCodeError, UserFault, load_simulator, run_user, scene_dict
 from custom_sim import simulate

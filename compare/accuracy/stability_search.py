@@ -44,7 +44,7 @@ import numpy as np
 
 from custom_sim import (Scene, SimulationChattered, SimulationDiverged, mass_properties, simulate,
                         stable_step)
-from custom_sim.scene import Body
+from scene_types.schema import Body
 
 # A rise of 10 % of the energy in motion is far above what a stable integrator shows at quiet
 # samples (the measured drift of a stable symplectic Euler bounce is below 1 % per bounce at

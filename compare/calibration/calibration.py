@@ -25,7 +25,7 @@ import numpy as np
 from custom_sim import Scene, simulate
 from mujoco_models import MAPPINGS, build_twin
 
-from ..cli import BadInput
+from scene_types import BadInput
 from .fit import FitResult, fit, jacobian_cost
 from .settings import ContactSettings, calibrated, read_model, write_spec
 from .targets import Batch, Target, errors, prepare, residual_of

@@ -19,7 +19,7 @@ from pathlib import Path
 from custom_sim import parse_scene, simulate
 from mujoco_models import MAPPINGS
 
-from ..cli import BadInput
+from scene_types import BadInput
 from .parameters import PARAMETERS
 from .settings import calibrated
 from .targets import Batch, errors, prepare

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..cli import BadInput
+from scene_types import BadInput
 
 
 @dataclass(frozen=True)

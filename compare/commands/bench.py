@@ -20,7 +20,7 @@ import json
 
 from custom_sim import INTEGRATORS
 
-from ..cli import BadInput
+from scene_types import BadInput
 from ..scenarios import load_all
 
 SPEED_GOAL = 50.0   # issue 5: our step at least 50 times cheaper than MuJoCo's

@@ -20,7 +20,9 @@ from __future__ import annotations
 import os
 import sys
 
-from ..cli import BadInput, output_folder
+from scene_types import BadInput
+
+from ..cli import output_folder
 from ..scenarios import load_all
 
 DEFAULT_FITTED = ("box_slide", "point_drop")

@@ -157,7 +157,7 @@ def _run(args) -> int:
 
     out = output_folder(args.out).resolve()   # before the user's module imports: its chdir cannot move it
     if args.timeout is not None and not args.timeout > 0:
-        from ..cli import BadInput
+        from scene_types import BadInput
         raise BadInput(f"--timeout {args.timeout:g}: expected a positive number of seconds")
     scenes = load_all(args.scenes)
     simulator = None

@@ -19,7 +19,9 @@ Exit status: 0 done (unstable runs are results, not errors), 2 bad input.
 """
 from __future__ import annotations
 
-from ..cli import BadInput, output_folder
+from scene_types import BadInput
+
+from ..cli import output_folder
 
 DEFAULT_OUT = "reports/study"
 

@@ -26,7 +26,7 @@ def require_writer(out: str | Path) -> None:
     needed = ["imageio"] + (["imageio_ffmpeg"] if Path(out).suffix.lower() == ".mp4" else [])
     missing = [name.replace("_", "-") for name in needed if importlib.util.find_spec(name) is None]
     if missing:
-        from ..cli import BadInput
+        from scene_types import BadInput
         raise BadInput(f"play --video needs {' and '.join(missing)}: {GAME_EXTRA}")
 
 

@@ -44,7 +44,7 @@ class Law:
     friction_shape     "tanh" or "sign" (the unregularised Coulomb law)
     friction_load      "point": mu Fn_i at each point; "body": mu times the sum of all Fn
     gravity_mass       True: weight m g; False: a force of g newtons (the m forgotten)
-    rolling            "scene": as the reference (custom_sim's regularised sign if it has one);
+    rolling            "scene": as the reference (the scene's roll_law);
                        "sign": the bare sign(omega); "none": no rolling resistance
     points_turn        True: contact arms turn with theta; False: corners never rotated
     """

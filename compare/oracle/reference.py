@@ -1,6 +1,6 @@
 """Reference solutions: custom_sim's equations solved far more accurately than any fixed step.
 
-The equations are those of custom_sim/forces.py, written again here, independently, in plain
+The equations are the scene's law (scene_types.laws), written here, independently, in plain
 Python floats; the geometry too is computed here (compare/oracle/rigid_body.py: area moments
 by Green's theorem), so that nothing checked against the reference is shared with custom_sim:
 
@@ -8,8 +8,8 @@ by Green's theorem), so that nothing checked against the reference is shared wit
     d_i  = -(y + r_iy)  touching while d_i > 0      vc_i = v + omega x r_i
     Fn_i = k d_i + c max(0, -vc_iy)   (compression)  or  max(0, k d_i - c vc_iy)   (linear)
     Ft_i = -mu Fn_i tanh(alpha vc_ix)
-    s(omega) = tanh(ROLL_SHARPNESS omega) when custom_sim.forces defines ROLL_SHARPNESS (its
-               regularised rolling resistance), else sign(omega) (the seed's Algorithm 4)
+    s(omega) = tanh(roll_sharpness omega) under the scene's roll_law "tanh", sign(omega) under
+               "sign" (the seed's Algorithm 4)
 
 The right-hand side is smooth except where a switch flips: a point touching or not (the force
 jumps by c |vc_y| under the compression law), the kink of max() (compression: vc_y = 0; linear:
@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from custom_sim import Scene
+from scene_types import Scene
 
 from .rigid_body import RigidBody, rigid_body
 
@@ -70,13 +70,6 @@ ZENO_WINDOW = 1e-9          # s
 REFERENCE_VERSION = 3       # bump when the equations or the method change (invalidates caches)
 
 COMPRESSION, LINEAR = "compression", "linear"
-
-
-def _roll_sharpness() -> float | None:
-    """custom_sim's regularisation of sign(omega) in the rolling resistance, if it has one."""
-    from custom_sim import forces
-    value = getattr(forces, "ROLL_SHARPNESS", None)
-    return None if value is None else float(value)
 
 
 class ReferenceError(RuntimeError):
@@ -122,7 +115,7 @@ class Equations:
             contact=scene.has("contact"), k=ct.k, c=ct.c, law=ct.damping_law,
             friction=scene.has("friction"), mu=ct.mu, alpha=ct.alpha,
             rolling=scene.has("rolling_friction"), mu_roll=ct.mu_roll,
-            roll_sharpness=_roll_sharpness(),
+            roll_sharpness=ct.roll_sharpness if ct.roll_law == "tanh" else None,
         )
 
     @property
@@ -397,7 +390,7 @@ def solve_reference(scene: Scene, t_eval, rtol: float = REFERENCE_RTOL,
 def cache_key(scene: Scene, t_eval, rtol: float, atol: float, method: str) -> str:
     """Hash of everything the solution depends on (the scene without its file path)."""
     t_eval = np.asarray(t_eval, dtype=float)
-    text = repr((REFERENCE_VERSION, _roll_sharpness(), repr(dataclasses.replace(scene, source="")),
+    text = repr((REFERENCE_VERSION, repr(dataclasses.replace(scene, source="")),
                  rtol, atol, method, t_eval.size, float(t_eval[0]), float(t_eval[-1]),
                  hashlib.sha1(t_eval.tobytes()).hexdigest()))
     return hashlib.sha1(text.encode()).hexdigest()[:16]

@@ -25,8 +25,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from custom_sim import Scene
-from custom_sim.scene import Body
+from scene_types import Scene
+from scene_types import Body
 
 
 @dataclass(frozen=True)

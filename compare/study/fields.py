@@ -23,7 +23,7 @@ import numpy as np
 
 from custom_sim import Scene, SceneError, parse_scene
 
-from ..cli import BadInput
+from scene_types import BadInput
 
 _TOKEN = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)")
 SPEC_HELP = ("expected NAME=SPEC, SPEC a list (1e3,1e4) or a range START:STOP:COUNT:log|lin "

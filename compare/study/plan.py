@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from custom_sim import INTEGRATORS, Scene
-from custom_sim.scene import MujocoSettings, Tolerance
+from scene_types.schema import MujocoSettings, Tolerance
 
 from ..oracle.reference import REFERENCE_VERSION
 from .fields import SceneSource, Vary

@@ -155,7 +155,7 @@ class TrajectoryFiles(_Simulator):
 
     def _run(self, scene: Scene) -> UserRun:
         from custom_sim import read_csv
-        from custom_sim.trajectory import read_csv_text
+        from scene_types.trajectory import read_csv_text
 
         path = self.path(scene)
         if not path.is_file():

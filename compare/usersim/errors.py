@@ -9,7 +9,7 @@ import sysconfig
 import traceback
 from pathlib import Path
 
-from ..cli import BadInput
+from scene_types import BadInput
 
 _HARNESS = [str(Path(__file__).resolve().parents[2] / pkg) for pkg in ("compare", "custom_sim", "mujoco_models")]
 _LIBRARIES = sorted({str(Path(p).resolve()) for key in ("stdlib", "platstdlib", "purelib", "platlib")

@@ -23,7 +23,7 @@ def _cell(row: dict) -> str:
 
 
 def main(argv=None) -> int:
-    from ..cli import BadInput
+    from scene_types import BadInput
     from custom_sim import SceneError
 
     p = argparse.ArgumentParser(prog="python -m compare.usersim.validate", description=__doc__.splitlines()[0])

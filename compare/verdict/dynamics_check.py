@@ -49,7 +49,7 @@ import dataclasses
 
 import numpy as np
 
-from custom_sim.scene import Scene
+from scene_types.schema import Scene
 
 NAME = "dynamics"
 ISOLATES = ("inertia, torque, contact-point kinematics and the integrator: MuJoCo integrates "

@@ -32,7 +32,7 @@ from numba import njit
 from custom_sim import Scene, simulate
 from custom_sim.integrators import NEWTON_TOL, euler_step, implicit_euler_step, rk4_step
 from custom_sim.model import build_model, initial_state
-from custom_sim.scene import Initial
+from scene_types.schema import Initial
 
 INJECTED_ULPS = 2        # per component per step, relative (eps |z|): a few rounded terms in another order
 INJECTION_SEEDS = (1, 2)

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Trajectory, stable_step
-from custom_sim.scene import SOLREF_MAPPINGS
+from scene_types.schema import SOLREF_MAPPINGS
 
 from . import events, metrics
 from .case import Case

@@ -10,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import CsvError
+
 CSV_COLUMNS = ("t", "x", "y", "theta", "vx", "vy", "omega", "energy")
 REQUIRED_COLUMNS = CSV_COLUMNS[:7]   # energy (and any other column) is optional when reading
 CSV_FORMAT = "%.10g"                 # 10 significant digits: a relative rounding of at most 5e-10
@@ -18,14 +20,6 @@ _UTF8_BOM = b"\xef\xbb\xbf"
 # other encodings' byte-order marks (UTF-32 before UTF-16: FF FE 00 00 starts with FF FE)
 _OTHER_BOMS = ((b"\xff\xfe\x00\x00", "UTF-32"), (b"\x00\x00\xfe\xff", "UTF-32"),
                (b"\xff\xfe", "UTF-16"), (b"\xfe\xff", "UTF-16"))
-
-
-class CsvError(ValueError):
-    """A trajectory CSV that cannot be read: `file: where: what was expected`."""
-
-    def __init__(self, path: str | Path, where: str, message: str):
-        self.path, self.where = str(path), where
-        super().__init__(f"{path}: {where}: {message}")
 
 
 @dataclass(frozen=True)

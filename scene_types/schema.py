@@ -11,23 +11,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .errors import SceneError
+from .laws import DAMPING_LAWS, FRICTION_LAWS, LAW_PARAMETERS, ROLL_LAWS
+
 INTEGRATORS = ("explicit_euler", "semi_implicit_euler", "implicit_euler", "rk4")
 EFFECTS = ("gravity", "contact", "friction", "rolling_friction")
 SHAPES = ("point", "box", "compound", "circle")
-DAMPING_LAWS = ("compression", "linear")
 SOLREF_MAPPINGS = ("penalty", "physical", "seed")
 MAX_STEPS = 100_000_000  # a run's arrays take 48 bytes a step: 4.8 GB here, a typo beyond
 MUJOCO_INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
 CONES = ("elliptic", "pyramidal")
-
-
-class SceneError(ValueError):
-    """Bad scene input: `file: field: message`."""
-
-    def __init__(self, file: str, field: str, message: str):
-        self.file, self.field, self.message = file, field, message
-        where = f"{file}: {field}: " if field else f"{file}: "
-        super().__init__(where + message)
 
 
 @dataclass(frozen=True)
@@ -53,14 +46,21 @@ class Body:
 
 @dataclass(frozen=True)
 class Contact:
-    """Penalty contact: k (N/m), c (N s/m), mu (-), alpha (s/m), mu_roll (m)."""
+    """Penalty contact and its law (scene_types.laws): k (N/m), c (N s/m), dissipation (s/m),
+    mu (-), alpha (s/m), mu_roll (m), roll_sharpness (s/rad). A parameter the chosen family
+    does not take holds its neutral value: c 0 under hunt_crossley, dissipation 0 otherwise,
+    alpha None under the sign friction, roll_sharpness None under the sign rolling law."""
 
     k: float = 1e4
     c: float = 20.0
     damping_law: str = "compression"
     mu: float = 0.5
-    alpha: float = 100.0
+    alpha: float | None = 100.0
     mu_roll: float = 0.0
+    dissipation: float = 0.0
+    friction_law: str = "tanh"
+    roll_law: str = "tanh"
+    roll_sharpness: float | None = 100.0
 
 
 @dataclass(frozen=True)
@@ -159,8 +159,7 @@ def parse_scene(data: dict[str, Any], file: str = "<memory>", default_name: str 
                                      f"(expected at most {MAX_STEPS:.0e} steps)")
     effects = v.effects(top)
     body = _parse_body(v, v.table(top.get("body"), "body", None, required=True), effects)
-    contact = _parse_contact(v, v.table(top.get("contact", {}), "contact",
-                                        {"k", "c", "damping_law", "mu", "alpha", "mu_roll"}))
+    contact = parse_contact(v, v.table(top.get("contact", {}), "contact", CONTACT_FIELDS))
     initial = _parse_initial(v, v.table(top.get("initial"), "initial",
                                         {"position", "velocity", "angle", "angular_velocity"}, required=True))
     if body.shape == "point" and (initial.angle != 0.0 or initial.angular_velocity != 0.0):
@@ -221,40 +220,54 @@ def allowed_initial_depth(body: Body, g: float, k: float) -> float:
     """The deepest a contact point may start below the ground (m): the larger of
     INITIAL_DEPTH_REST_FACTOR m g / k (g: 0 without gravity) and INITIAL_DEPTH_PLACEMENT times
     the body's size."""
-    from .bodies import mass_properties
-
-    size = _body_size(mass_properties(body))
+    size = _body_size(_contact_points(body)[0])
     return max(INITIAL_DEPTH_REST_FACTOR * body.mass * g / k, INITIAL_DEPTH_PLACEMENT * size)
 
 
-def _body_size(props) -> float:
+def _body_size(points) -> float:
     """The farthest contact point from the centre of mass (m); 0 for a point touching at y."""
-    return max((math.hypot(float(px), float(py)) for px, py in props.points), default=0.0)
+    return max((math.hypot(px, py) for px, py in points), default=0.0)
+
+
+def _contact_points(body: Body) -> tuple[list[tuple[float, float]], bool]:
+    """The contact points relative to the centre of mass (m) and whether they turn with the
+    body: the placement check's own reading of the seed's geometry (a box's and each part's
+    corners, the point at (0, -contact_height), the disk's point below its centre)."""
+    if body.shape == "point":
+        return [(0.0, -body.contact_height)], False
+    if body.shape == "circle":
+        return [(0.0, -body.radius)], False
+    boxes = [((0.0, 0.0), body.size, body.mass)] if body.shape == "box" else \
+        [(p.offset, p.size, p.mass) for p in body.parts]
+    total = sum(m for _, _, m in boxes)
+    cx = sum(o[0] * m for o, _, m in boxes) / total
+    cy = sum(o[1] * m for o, _, m in boxes) / total
+    return [(o[0] - cx + sx * w / 2, o[1] - cy + sy * h / 2)
+            for o, (w, h), _ in boxes for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))], True
 
 
 def _check_initial_depth(file: str, body: Body, initial: Initial, g: float, k: float) -> None:
     """SceneError when the initial state puts a contact point deeper below the ground (y = 0)
     than allowed_initial_depth: the field is initial.angle when the angle alone does it (the
     same position at angle 0 would be allowed), else initial.position."""
-    from .bodies import contact_points_world, mass_properties
-
-    props = mass_properties(body)
+    points, points_rotate = _contact_points(body)
     allowed = allowed_initial_depth(body, g, k)
     x, y = initial.position
 
     def lowest(angle: float) -> tuple[int, float, float]:
-        px, py = contact_points_world(props, x, y, angle)
-        i = int(py.argmin())
-        return i, float(px[i]), float(py[i])
+        c, s = (math.cos(angle), math.sin(angle)) if points_rotate else (1.0, 0.0)
+        world = [(x + c * lx - s * ly, y + s * lx + c * ly) for lx, ly in points]
+        i = min(range(len(world)), key=lambda j: world[j][1])
+        return i, world[i][0], world[i][1]
 
     i, px, py = lowest(initial.angle)
     depth = -py
     if depth <= allowed:
         return
     field = "initial.position"
-    if initial.angle != 0.0 and -lowest(0.0)[2] <= allowed and props.points_rotate:
+    if initial.angle != 0.0 and -lowest(0.0)[2] <= allowed and points_rotate:
         field = "initial.angle"
-    lx, ly = props.points[i]
+    lx, ly = points[i]
     rest = body.mass * g / k
     turned = f" turned by initial.angle = {initial.angle:g} rad" if initial.angle != 0.0 else ""
     raise SceneError(file, field,
@@ -262,7 +275,7 @@ def _check_initial_depth(file: str, body: Body, initial: Initial, g: float, k: f
                      f"{depth:.3g} m below the ground (expected a start above the ground or pressed in by at "
                      f"most {allowed:.3g} m: the larger of {INITIAL_DEPTH_REST_FACTOR:g} x the resting "
                      f"compression m g / k = {rest:.3g} m (a body set down at rest stays on the ground) and "
-                     f"{INITIAL_DEPTH_PLACEMENT:g} of the body's size {_body_size(props):.3g} m (round-off); "
+                     f"{INITIAL_DEPTH_PLACEMENT:g} of the body's size {_body_size(points):.3g} m (round-off); "
                      f"raise initial.position's y by at least {depth - allowed:.3g} m)")
 
 
@@ -306,15 +319,43 @@ def _parse_body(v: _Validator, b: dict, effects: tuple[str, ...]) -> Body:
     return Body(shape=shape, mass=mass, contact_height=v.number(b, "contact_height", 0.0, "body.", minimum=0.0))
 
 
-def _parse_contact(v: _Validator, c: dict) -> Contact:
+CONTACT_FIELDS = {"k", "c", "damping_law", "dissipation", "mu", "alpha", "friction_law",
+                  "mu_roll", "roll_law", "roll_sharpness"}
+
+
+def parse_contact(v: _Validator, c: dict) -> Contact:
+    """The [contact] table: each law named from its family, each parameter only where the
+    family takes it (a `dissipation` beside a compression law, an `alpha` beside the sign
+    friction are errors), and hunt_crossley's `dissipation` required."""
     d = Contact()
+    laws = {"damping_law": v.choice(c, "damping_law", DAMPING_LAWS, d.damping_law, "contact."),
+            "friction_law": v.choice(c, "friction_law", FRICTION_LAWS, d.friction_law, "contact."),
+            "roll_law": v.choice(c, "roll_law", ROLL_LAWS, d.roll_law, "contact.")}
+    taken = set()
+    for field, name in laws.items():
+        taken |= set(LAW_PARAMETERS[field][name])
+    for field, name in laws.items():
+        for family, params in LAW_PARAMETERS[field].items():
+            for param in params:
+                if param in c and param not in taken:
+                    users = sorted(f for f, p in LAW_PARAMETERS[field].items() if param in p)
+                    raise SceneError(v.file, f"contact.{param}",
+                                     f"is not a parameter of {field} = '{name}' (expected it only with "
+                                     f"{field} = {' | '.join(users)}; remove it or change the law)")
+    if laws["damping_law"] == "hunt_crossley" and "dissipation" not in c:
+        raise SceneError(v.file, "contact.dissipation",
+                         "is required by damping_law = 'hunt_crossley' (expected the dissipation in s/m, "
+                         "a number >= 0: Fn = max(0, k d (1 - dissipation v_n)))")
     return Contact(
         k=v.positive(c, "k", d.k, "contact."),
-        c=v.number(c, "c", d.c, "contact.", minimum=0.0),
-        damping_law=v.choice(c, "damping_law", DAMPING_LAWS, d.damping_law, "contact."),
+        c=v.number(c, "c", d.c, "contact.", minimum=0.0) if "c" in taken else 0.0,
+        dissipation=v.number(c, "dissipation", 0.0, "contact.", minimum=0.0) if "dissipation" in taken else 0.0,
         mu=v.number(c, "mu", d.mu, "contact.", minimum=0.0),
-        alpha=v.positive(c, "alpha", d.alpha, "contact."),
+        alpha=v.positive(c, "alpha", d.alpha, "contact.") if "alpha" in taken else None,
         mu_roll=v.number(c, "mu_roll", d.mu_roll, "contact.", minimum=0.0),
+        roll_sharpness=(v.positive(c, "roll_sharpness", d.roll_sharpness, "contact.")
+                        if "roll_sharpness" in taken else None),
+        **laws,
     )
 
 

@@ -1,0 +1,56 @@
+"""The contact law's families, as data: each effect's law names and the parameters each takes.
+
+    normal force (d the depth, v_n the normal velocity, both m and m/s; Fn in N)
+      compression    Fn = k d + c max(0, -v_n)           the seed's Algorithm 1
+      linear         Fn = max(0, k d - c v_n)            Kelvin-Voigt, never pulls
+      unclamped      Fn = k d - c v_n                    pulls while separating fast
+      hunt_crossley  Fn = max(0, k d (1 - dissipation v_n))   dissipation in s/m
+    friction (v the slip velocity, m/s; Ft in N)
+      tanh           Ft = -mu Fn tanh(alpha v)           the seed
+      ramp           Ft = -mu Fn clamp(alpha v, -1, 1)   a stiction ramp below 1/alpha
+      smooth_coulomb Ft = -mu Fn v / sqrt(v^2 + 1/alpha^2)
+      sign           Ft = -mu Fn sign(v)                 bare Coulomb, no alpha
+    rolling resistance (omega in rad/s; torque in N m)
+      tanh           tau = -mu_roll Fn tanh(roll_sharpness omega)
+      sign           tau = -mu_roll Fn sign(omega)
+
+Each simulator side (custom_sim, the independent oracle, the MuJoCo twin) writes these
+formulas itself; this module only names them, so that a scene, a `--law` file and an
+identified law speak the same words.
+"""
+from __future__ import annotations
+
+DAMPING_LAWS = ("compression", "linear", "unclamped", "hunt_crossley")
+FRICTION_LAWS = ("tanh", "ramp", "smooth_coulomb", "sign")
+ROLL_LAWS = ("tanh", "sign")
+
+# the [contact] field that names each effect's law, and the parameters each family takes
+# beyond the ones every family of that effect shares (k for the normal force, mu, mu_roll)
+LAW_PARAMETERS = {
+    "damping_law": {"compression": ("c",), "linear": ("c",), "unclamped": ("c",),
+                    "hunt_crossley": ("dissipation",)},
+    "friction_law": {"tanh": ("alpha",), "ramp": ("alpha",), "smooth_coulomb": ("alpha",), "sign": ()},
+    "roll_law": {"tanh": ("roll_sharpness",), "sign": ()},
+}
+LAW_NAMES = {"damping_law": DAMPING_LAWS, "friction_law": FRICTION_LAWS, "roll_law": ROLL_LAWS}
+
+# the seed's law: what a scene gets when it names none
+SEED_LAW = {"damping_law": "compression", "friction_law": "tanh", "roll_law": "tanh"}
+
+
+def is_seed_law(contact) -> bool:
+    """True when a scene's [contact] uses the seed's three families (any parameters)."""
+    return all(getattr(contact, field) == name for field, name in SEED_LAW.items())
+
+
+def law_text(contact) -> str:
+    """One line naming a [contact]'s three laws and their parameters, for pages and messages."""
+    parts = [f"normal {contact.damping_law} (k {contact.k:g} N/m, "
+             + (f"dissipation {contact.dissipation:g} s/m)" if contact.damping_law == "hunt_crossley"
+                else f"c {contact.c:g} N s/m)"),
+             f"friction {contact.friction_law} (mu {contact.mu:g}"
+             + (f", alpha {contact.alpha:g} s/m)" if contact.alpha is not None else ")"),
+             f"rolling {contact.roll_law} (mu_roll {contact.mu_roll:g} m"
+             + (f", roll_sharpness {contact.roll_sharpness:g} s/rad)" if contact.roll_sharpness is not None
+                else ")")]
+    return "; ".join(parts)
