@@ -8,7 +8,6 @@ counter-clockwise, ground y = 0).
 from __future__ import annotations
 
 from custom_sim import Scene, mass_properties
-from custom_sim.forces import ROLL_SHARPNESS
 
 
 def _body(scene: Scene) -> dict:
@@ -36,7 +35,9 @@ def scene_dict(scene: Scene) -> dict:
                                     False: they stay where they are (the circle's point straight
                                     below the centre, the point mass's contact height)
     mass_properties.rotates         whether theta is a degree of freedom (False: point mass)
-    contact.roll_sharpness          s/rad: the rolling resistance's sign(omega) is tanh(this * omega)
+    contact                         the law (docs/scene-format.md): damping_law, friction_law and
+                                    roll_law with their parameters; one a family does not take is
+                                    0 (c, dissipation) or None (alpha, roll_sharpness)
     state0                          [x, y, theta, vx, vy, omega] at t = 0
     steps                           duration / dt rounded to the nearest whole step
     """
@@ -53,8 +54,9 @@ def scene_dict(scene: Scene) -> dict:
         "effects": list(scene.effects),
         "g": scene.g,
         "body": _body(scene),
-        "contact": {"k": ct.k, "c": ct.c, "damping_law": ct.damping_law, "mu": ct.mu,
-                    "alpha": ct.alpha, "mu_roll": ct.mu_roll, "roll_sharpness": ROLL_SHARPNESS},
+        "contact": {"k": ct.k, "c": ct.c, "damping_law": ct.damping_law, "dissipation": ct.dissipation,
+                    "mu": ct.mu, "alpha": ct.alpha, "friction_law": ct.friction_law,
+                    "mu_roll": ct.mu_roll, "roll_law": ct.roll_law, "roll_sharpness": ct.roll_sharpness},
         "initial": {"position": list(ini.position), "velocity": list(ini.velocity),
                     "angle": ini.angle, "angular_velocity": ini.angular_velocity},
         "state0": [*map(float, ini.position), float(ini.angle), *map(float, ini.velocity),
