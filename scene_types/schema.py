@@ -107,6 +107,8 @@ class Scene:
     mujoco: MujocoSettings = field(default_factory=MujocoSettings)
     tolerance: Tolerance = field(default_factory=Tolerance)
     source: str = "<memory>"
+    law_from: str = ""                  # "": the scene's own law; else where `contact` came from
+    scene_contact: Contact | None = None   # the scene file's [contact] when `run --law` replaced it
 
     @property
     def steps(self) -> int:

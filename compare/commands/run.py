@@ -43,6 +43,10 @@ def add_arguments(parser) -> None:
     which.add_argument("--trajectories", metavar="DIR",
                        help="precomputed runs DIR/<scene name>.csv, columns by header name: t,x,y,theta,vx,vy,omega "
                             "required (energy optional), first row t = 0, then one row per step of dt")
+    user.add_argument("--law", metavar="FILE.toml|identified",
+                      help="judge every check under another contact law: a [contact] table laid over each "
+                           "scene's (docs/scene-format.md), or `identified`: the law `identify` finds in "
+                           "--sim's step function (default: the scene's own law)")
     add_timeout(parser)
     parser.set_defaults(load_simulator=_load_simulator)
 
@@ -164,6 +168,8 @@ def _run(args) -> int:
     loader = getattr(args, "load_simulator", None)
     if loader is not None:
         simulator = loader(args, scenes)  # bad input is raised here, before anything is written
+    if getattr(args, "law", None):
+        scenes = under_law(scenes, args.law, simulator)
     compile_everything()
 
     from ..report import write_index
@@ -196,6 +202,21 @@ def _run(args) -> int:
     print(f"report: {index}")
     judged = all(any(c["pass"] is not None for c in r["checks"]) for r in rows)
     return 0 if not failed and judged and all(r["pass"] for r in rows) else 1
+
+
+def under_law(scenes, law: str, simulator):
+    """The scenes under `--law`: a law file's [contact] laid over each scene's, or the law
+    `identify` finds in the simulator under test (its bad input raised before anything runs)."""
+    from scene_types import BadInput
+    from scene_types.law_file import load_law, with_law
+
+    if law != "identified":
+        table = load_law(law)
+        return [with_law(s, table, law) for s in scenes]
+    if simulator is None or not hasattr(simulator, "identify_law"):
+        raise BadInput("--law identified: expected --sim MODULE:FUNCTION (a step function, or with --whole "
+                       "a whole run) or --trajectories DIR, whose law `identify` can find")
+    return [with_law(s, simulator.identify_law(s), "identified") for s in scenes]
 
 
 def prepare_workers() -> None:

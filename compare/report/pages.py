@@ -15,6 +15,7 @@ from .atomic import finite_json, temporary_folder, write_text_atomically
 
 from ..verdict import metrics
 from . import plots
+from ..verdict.law_difference import law_lines
 from ..verdict.scenario import Result, check_label, metrics_json
 
 def _fmt(x, unit: str = "") -> str:
@@ -130,6 +131,7 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
                    + (f"; outside: {', '.join(check_label(c) for c in result.failed)}" if result.failed else "")
                    + (f"; not judged: {skipped} (each row says why)" if skipped else "") + ".")
     lines = [f"# {scene.name}", "", scene.description, "", summary, ""]
+    lines += law_lines(scene, result.law_differences)
     lines += [f"> warning: {w}" for w in result.warnings]
     if result.warnings:
         lines.append("")

@@ -56,6 +56,7 @@ class Result:
     unstable: bool = False                            # the error is a divergence or chatter
     error_details: str = ""                           # the user's own traceback, where their code raised
     keeps_state: str | None = None                    # a step function whose answer depends on earlier calls
+    law_differences: list = field(default_factory=list)  # `run --law`: each effect that differs from the scene's
 
     @property
     def judged(self) -> list[dict]:
@@ -140,6 +141,9 @@ def _run(result: Result, case: Case, simulator) -> None:
     native_twins(result, case)
     result.checks.append(native_row(scene, result.metrics))
     result.attribution = attribution_ladder(case, result.mujoco)
+    if scene.scene_contact is not None:
+        from .law_difference import law_differences
+        result.law_differences = law_differences(scene, result.under_test.t, result.under_test.states())
     if user:
         result.diagnosis = simulator.diagnose(scene, result.under_test, probe=result.keeps_state is None, case=case)
 
@@ -376,4 +380,17 @@ def metrics_json(result: Result) -> dict:
         "attribution": result.attribution,
         "contact_check": contact,
         "diagnosis": result.diagnosis,
+        "law": law_json(result),
     }
+
+
+def law_json(result: Result) -> dict:
+    """The contact law the checks used, where it came from, and (under `run --law`) the scene
+    file's own law and each effect that differs."""
+    import dataclasses
+    scene = result.scene
+    out = {"from": scene.law_from or "scene", "judged": dataclasses.asdict(scene.contact)}
+    if scene.scene_contact is not None:
+        out["scene"] = dataclasses.asdict(scene.scene_contact)
+        out["differences"] = result.law_differences
+    return out

@@ -1,0 +1,70 @@
+"""Where a run is judged under another law than its scene's (`run --law`): which effects of
+the two laws differ, and by how many newtons, at the moment of the run where they differ most."""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from scene_types import Scene, law_text
+
+# each effect of the law and the [contact] fields that make it
+EFFECT_FIELDS = {
+    "normal": ("damping_law", "k", "c", "dissipation"),
+    "friction": ("friction_law", "mu", "alpha"),
+    "rolling": ("roll_law", "mu_roll", "roll_sharpness"),
+}
+EFFECT_NEEDS = {"normal": "contact", "friction": "friction", "rolling": "rolling_friction"}
+
+
+def differing_effects(scene: Scene) -> list[str]:
+    """The effects whose fields differ between the scene file's law and the one judged."""
+    asked = scene.scene_contact
+    if asked is None:
+        return []
+    return [effect for effect, fields in EFFECT_FIELDS.items()
+            if scene.has(EFFECT_NEEDS[effect])
+            and any(getattr(asked, f) != getattr(scene.contact, f) for f in fields)]
+
+
+def law_differences(scene: Scene, t: np.ndarray, states: np.ndarray) -> list[dict]:
+    """For each differing effect: the largest difference of force (N, or N m for the torque)
+    between the scene file's law and the judged one, over the run's states, and where it is.
+    Only that effect's fields are exchanged, so each row is that effect alone."""
+    from ..oracle.force_law import accelerations
+    from ..oracle.reference import Equations
+
+    rows = []
+    judged = Equations.from_scene(scene)
+    scale = np.array([judged.mass, judged.mass, judged.inertia if judged.rotates else 0.0])
+    for effect in differing_effects(scene):
+        swapped = dataclasses.replace(scene.contact, **{f: getattr(scene.scene_contact, f)
+                                                        for f in EFFECT_FIELDS[effect]})
+        asked = Equations.from_scene(dataclasses.replace(scene, contact=swapped))
+        a_judged, _ = accelerations(judged, states)
+        a_asked, _ = accelerations(asked, states)
+        force = (a_judged - a_asked) * scale
+        size = np.hypot(force[:, 0], force[:, 1]) if effect != "rolling" else np.abs(force[:, 2])
+        i = int(np.argmax(size))
+        rows.append({"effect": effect, "step": i, "t": float(t[i]), "force": [float(v) for v in force[i]],
+                     "largest": float(size[i]), "unit": "N m" if effect == "rolling" else "N"})
+    return rows
+
+
+def law_lines(scene: Scene, differences: list[dict]) -> list[str]:
+    """The page's opening lines on the law: the one judged beside the scene's, and each effect
+    that differs with its difference at a named moment."""
+    if scene.scene_contact is None:
+        return []
+    lines = [f"Judged under the law from **{scene.law_from}**: {law_text(scene.contact)}.", "",
+             f"The scene asks: {law_text(scene.scene_contact)}.", ""]
+    if not differences:
+        lines += ["The two laws agree on every effect this scene has.", ""]
+    for d in differences:
+        fx, fy, tau = d["force"]
+        what = (f"torque {tau:+.3g} N m" if d["effect"] == "rolling"
+                else f"force ({fx:+.3g}, {fy:+.3g}) N, torque {tau:+.3g} N m")
+        lines.append(f"- **{d['effect']}** differs: at step {d['step']} (t = {d['t']:.6g} s) the judged law "
+                     f"gives {what} more than the scene's ({d['largest']:.3g} {d['unit']}, the largest over the run).")
+    lines.append("")
+    return lines
