@@ -18,8 +18,6 @@ an explicit <inertial>; contact sites at the contact points; energy sensors):
                                                       sensors.py, effects.py)
     solref_for, contact_parameters                    solref.py (friction.py)
     energy from MuJoCo's sensors, blow-up guard       energy.py, guard.py
-    python -m mujoco_models.mapping_table             the native twin's mappings against custom_sim
-    python -m mujoco_models.dynamics_speed            ns per step: native against dynamics twin
 """
 from .dynamics import simulate_dynamics
 from .rigid_body import RigidBody, rigid_body

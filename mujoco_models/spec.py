@@ -72,6 +72,10 @@ class Twin:
     pairs: str = "native"                  # native | normal | none (module docstring)
     sensors: SensorLayout | None = None    # where energy.py finds MuJoCo's energies and depths
 
+    def __getstate__(self):
+        """Pickled without its spec (an MjSpec does not pickle): every choice, not the builder."""
+        return {**self.__dict__, "spec": None}
+
 
 def resolve_settings(scene: Scene, integrator: str | None = None, dt: float | None = None):
     """(integrator, dt) with the scene's [mujoco] table as default (dt: mujoco.dt, else scene.dt)."""

@@ -109,7 +109,7 @@ def test_a_run_that_blows_up_raises():
 
 
 def test_mapping_table_rows():
-    from mujoco_models.mapping_table import mapping_errors, max_position_difference
+    from compare.accuracy.mapping_table import mapping_errors, max_position_difference
 
     errors = mapping_errors(short(load("elastic_bounce"), 0.5))
     assert set(errors) == {"penalty", "physical", "seed", "penalty_vs_linear_law", "ns_per_step"}

@@ -48,6 +48,9 @@ def add_arguments(parser) -> None:
                            "scene's (docs/scene-format.md), or `identified`: the law `identify` finds in "
                            "--sim's step function (default: the scene's own law)")
     add_timeout(parser)
+    parser.add_argument("--no-cache", action="store_true",
+                        help="recompute what depends only on the scene (MuJoCo's runs, custom_sim's, the reference) "
+                             "instead of taking it from the cache of earlier runs")
     parser.set_defaults(load_simulator=_load_simulator)
 
 
@@ -76,10 +79,13 @@ def run_one(scene, out: str, simulator=None):
         from ..report import write_scenario
         from ..verdict.scenario import run_scenario
 
+        from ..store import counts
+
         result = run_scenario(scene, simulator)
         if result.error:
             return Outcome(failure=(result.status, result.error), details=result.error_details)
-        return Outcome(row=write_scenario(result, Path(out), to_mjcf(scene)))
+        row = write_scenario(result, Path(out), to_mjcf(scene))
+        return Outcome(row={**row, "cache": counts()})
     except UserCodeError as exc:
         return Outcome(bad_input=(str(exc), exc.details))
     except Exception as exc:  # noqa: BLE001 - becomes the scenario's error row
@@ -160,6 +166,9 @@ def _run(args) -> int:
     from ..usersim import UserCodeError
 
     out = output_folder(args.out).resolve()   # before the user's module imports: its chdir cannot move it
+    if getattr(args, "no_cache", False):
+        from ..store import CACHE_ENV
+        os.environ[CACHE_ENV] = "off"
     if args.timeout is not None and not args.timeout > 0:
         from scene_types import BadInput
         raise BadInput(f"--timeout {args.timeout:g}: expected a positive number of seconds")
@@ -199,9 +208,24 @@ def _run(args) -> int:
     for name, status, why in failed:
         print(f"{name:<20} {status}: {why}")
         print(f"error: {why}", file=sys.stderr)
+    print(cache_line(rows), file=sys.stderr)
     print(f"report: {index}")
     judged = all(any(c["pass"] is not None for c in r["checks"]) for r in rows)
     return 0 if not failed and judged and all(r["pass"] for r in rows) else 1
+
+
+def cache_line(rows: list[dict]) -> str:
+    """What came from the cache of scene-only work (compare/store.py), in one line."""
+    from ..store import folder
+
+    where = folder()
+    if where is None:
+        return "cache: off (scene-only work computed)"
+    hits = sum(r["cache"]["hits"] for r in rows if "cache" in r)
+    misses = sum(r["cache"]["misses"] for r in rows if "cache" in r)
+    whole = sum(1 for r in rows if r.get("cache", {}).get("hits") and not r["cache"]["misses"])
+    return (f"cache: {hits} of {hits + misses} scene-only runs from {where} ({whole} of {len(rows)} scenarios "
+            f"wholly; --no-cache recomputes)")
 
 
 def under_law(scenes, law: str, simulator):

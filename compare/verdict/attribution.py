@@ -29,6 +29,7 @@ import numpy as np
 
 from custom_sim import Scene, SimulationDiverged
 
+from ..store import cached
 from .case import as_case
 
 
@@ -95,14 +96,14 @@ def rungs(scene: Scene, native_run=None, case=None) -> list[tuple[str, callable]
         return _on_grid(traj.states(), traj.dt, scene.dt, scene.steps)
 
     def native():
-        return mujoco_states(native_run or simulate_mujoco(scene, solref="penalty"))
+        return mujoco_states(native_run or cached(simulate_mujoco)(scene, solref="penalty"))
 
     def ours_inside_mujoco(at):
         def run():
             from mujoco_models import simulate_dynamics
             # the friction's load Fn is the scene's law at the site's depth (MuJoCo solves its own
             # normal force after the passive forces): the linear law, which MuJoCo's normal follows
-            return mujoco_states(simulate_dynamics(_linear(scene), callback_integrator, mj_dt,
+            return mujoco_states(cached(simulate_dynamics)(_linear(scene), callback_integrator, mj_dt,
                                                    native_normal=True, friction_at=at, solref="penalty"))
         return run
 

@@ -24,6 +24,8 @@ import numpy as np
 
 from custom_sim import Scene, SimulationDiverged, mass_properties, simulate
 
+from ..store import cached
+
 
 class Case:
     """One scene and the runs its checks share (module docstring)."""
@@ -63,7 +65,7 @@ class Case:
         """custom_sim's run (simulate) with this integrator at the scene's dt. Raises
         SimulationDiverged (or SimulationChattered)."""
         scene = self.variant(integrator)
-        return self._once(("simulate", scene), lambda: simulate(scene))
+        return self._once(("simulate", scene), lambda: cached(simulate)(scene))
 
     def states(self, scene: Scene, integrator: str, dt: float) -> np.ndarray:
         """custom_sim's states of `scene` (a variant of this case's) at (integrator, dt), as
@@ -75,26 +77,26 @@ class Case:
                 return self.trajectory(integrator).states()
             except SimulationDiverged:
                 pass   # simulate also stops on chatter; run_states does not
-        return self._once(("states", scene, integrator, dt), lambda: run_states(scene, integrator, dt))
+        return self._once(("states", scene, integrator, dt), lambda: cached(run_states)(scene, integrator, dt))
 
     def reference(self):
         """The converged reference (oracle.reference.solve_reference) at the scene's step.
         Raises its ReferenceError."""
         from ..oracle.reference import solve_reference
         scene = self.scene
-        return self._once(("reference",), lambda: solve_reference(scene, np.arange(scene.steps + 1) * scene.dt))
+        return self._once(("reference",), lambda: cached(solve_reference)(scene, np.arange(scene.steps + 1) * scene.dt))
 
     def mujoco(self, solref: str):
         """MuJoCo's native twin with this solref mapping. Raises MujocoDiverged."""
         from mujoco_models import simulate_mujoco
-        return self._once(("mujoco", solref), lambda: simulate_mujoco(self.scene, solref=solref))
+        return self._once(("mujoco", solref), lambda: cached(simulate_mujoco)(self.scene, solref=solref))
 
     def envelope(self, integrator: str | None = None):
         """The round-off envelope of custom_sim's run with this integrator (roundoff.py)."""
         from .roundoff import roundoff_envelope
         scene = self.variant(integrator)
         return self._once(("envelope", scene),
-                          lambda: roundoff_envelope(scene, self.trajectory(integrator).states()))
+                          lambda: cached(roundoff_envelope)(scene, self.trajectory(integrator).states()))
 
 
 def as_case(scene: Scene, case: Case | None = None) -> Case:

@@ -33,6 +33,7 @@ import numpy as np
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 from custom_sim.bodies import contact_points_world
 
+from ..store import cached
 from ..oracle.reference import ReferenceError as NoReference
 from .case import as_case
 from .impedance import NativeDiverged, native_run
@@ -114,7 +115,7 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, int
         under = case.states(bare, bare.integrator, bare.dt) if states_under_test is None \
             else np.asarray(states_under_test, dtype=float)
         # 1. the mapping's force error, read from MuJoCo along the same run
-        native, twin, error = native_run(bare)
+        native, twin, error = cached(native_run)(bare)
     except (SimulationDiverged, NativeDiverged) as exc:
         return _row(integrator, reason=f"not judged: with friction off the run diverged ({exc})")
     if under.ndim != 2 or under.shape[1] != 6 or len(under) < 2:

@@ -51,6 +51,8 @@ import numpy as np
 
 from scene_types.schema import Scene
 
+from ..store import cached
+
 NAME = "dynamics"
 ISOLATES = ("inertia, torque, contact-point kinematics and the integrator: MuJoCo integrates "
             "the same contact law")
@@ -96,7 +98,7 @@ def check_dynamics(scene: Scene, states, integrator: str, dt: float, rounding=No
                     "reason": f"the trajectory under test is not finite from step {i} (t = {i * dt:.6g} s)"})
         return row
     try:
-        twin = simulate_dynamics(run, MUJOCO_INTEGRATOR[integrator], dt).states()
+        twin = cached(simulate_dynamics)(run, MUJOCO_INTEGRATOR[integrator], dt).states()
     except MujocoDiverged as exc:
         row["reason"] = f"not judged: the dynamics twin diverged ({exc})"
         return row
@@ -191,7 +193,7 @@ def sensitivity(scene: Scene, mujoco_integrator: str, dt: float, twin: np.ndarra
                                         mu_roll=ct.mu_roll * f),
             initial=dataclasses.replace(ini, angle=ini.angle + sign * SENSITIVITY_PERTURBATION * max(1.0, abs(ini.angle))))
         try:
-            other = simulate_dynamics(member, mujoco_integrator, dt * f).states()
+            other = cached(simulate_dynamics)(member, mujoco_integrator, dt * f).states()
         except MujocoDiverged:
             return None
         spread_pos = np.maximum(spread_pos, np.hypot(*(other[:, :2] - twin[:, :2]).T))

@@ -1,6 +1,6 @@
 """How far each solref mapping's twin lands from the hand-written simulator, per scene.
 
-    python -m mujoco_models.mapping_table [SCENE ...]     (default: every built-in scene)
+    python -m compare.accuracy.mapping_table [SCENE ...]     (default: every built-in scene)
 
 prints, for each scene, the maximum distance (m) between the COM of simulate(scene) and of
 simulate_mujoco(scene, solref=mapping) for the three mappings; the same for the penalty twin
@@ -16,8 +16,8 @@ import numpy as np
 
 from custom_sim import Scene, simulate
 
-from .run import rollout_ns_per_step, setup_rollout, simulate_mujoco
-from .solref import MAPPINGS
+from mujoco_models.run import rollout_ns_per_step, setup_rollout, simulate_mujoco
+from mujoco_models.solref import MAPPINGS
 
 REPEATS = 3
 

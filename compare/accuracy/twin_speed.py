@@ -1,6 +1,6 @@
 """What the dynamics twin's contact law costs: ns per mj_step, measured in one run.
 
-    python -m mujoco_models.dynamics_speed [SCENE ...]     (default: every built-in scene)
+    python -m compare.accuracy.twin_speed [SCENE ...]     (default: every built-in scene)
 
 For each scene and MuJoCo integrator (Euler, RK4), the CPU time per step of whole-run rollouts
 (the fastest of REPEATS, after a warm-up) of
@@ -14,9 +14,9 @@ from __future__ import annotations
 
 import sys
 
-from .passive import installed, law_parameters
-from .run import rollout_ns_per_step, setup_rollout
-from .sites import contact_below_site
+from mujoco_models.passive import installed, law_parameters
+from mujoco_models.run import rollout_ns_per_step, setup_rollout
+from mujoco_models.sites import contact_below_site
 
 REPEATS = 3
 INTEGRATORS = ("Euler", "RK4")
@@ -39,7 +39,7 @@ def main(argv: list[str] | None = None) -> int:
     from compare.scenarios import builtin_names, load
 
     import argparse
-    parser = argparse.ArgumentParser(prog="python -m mujoco_models.dynamics_speed", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python -m compare.accuracy.twin_speed", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scenes", nargs="*", metavar="SCENE", help="default: every built-in scene")
     names = parser.parse_args(argv if argv is not None else sys.argv[1:]).scenes or builtin_names()

@@ -1,0 +1,67 @@
+"""The cache of scene-only work (compare/store.py): a second run takes every scene-only result
+from it and judges to the bit as the first; another law, or the cache off, computes again."""
+from __future__ import annotations
+
+import dataclasses
+import json
+import re
+
+import numpy as np
+import pytest
+
+from compare import store
+from compare.cli import main
+from compare.scenarios import load
+from compare.verdict.scenario import metrics_json, run_scenario
+
+
+@pytest.fixture
+def cache_on(tmp_path, monkeypatch):
+    monkeypatch.setenv(store.CACHE_ENV, str(tmp_path / "cache"))
+    store._memory.cache_clear()
+    store._cached_call.cache_clear()
+    monkeypatch.setattr(store, "_counts", {"hits": 0, "misses": 0})
+    yield tmp_path / "cache"
+    store._memory.cache_clear()
+    store._cached_call.cache_clear()
+
+
+def judged(scene) -> str:
+    """The scenario's metrics without its timings (which a cached run carries from its first)."""
+    data = metrics_json(run_scenario(scene))
+    for key in [k for k in data if k.startswith("wall_time")]:
+        data.pop(key)
+    return json.dumps(data, default=lambda a: np.asarray(a).tolist(), sort_keys=True)
+
+
+def test_a_second_run_takes_the_scene_only_work_from_the_cache(cache_on):
+    scene = dataclasses.replace(load("point_drop"), duration=0.4)
+    first = judged(scene)
+    computed = store.counts()
+    assert computed["misses"] > 0 and computed["hits"] == 0, computed
+    second = judged(scene)
+    after = store.counts()
+    assert after["misses"] == computed["misses"], "the second run computed scene-only work again"
+    assert after["hits"] >= computed["misses"]
+    assert second == first
+
+
+def test_another_law_is_another_key(cache_on):
+    scene = dataclasses.replace(load("point_drop"), duration=0.2)
+    judged(scene)
+    before = store.counts()["misses"]
+    judged(dataclasses.replace(scene, contact=dataclasses.replace(scene.contact, mu=0.4)))
+    assert store.counts()["misses"] > before
+
+
+def test_run_says_where_the_scene_only_work_came_from(cache_on, tmp_path, capsys):
+    short = tmp_path / "short_drop.toml"
+    text = (load("point_drop").source and open(load("point_drop").source).read())
+    short.write_text(re.sub(r"(?m)^duration = .*$", "duration = 0.3", text))
+    said = []
+    for flags in ([], [], ["--no-cache"]):
+        assert main(["run", str(short), "--out", str(tmp_path / "out"), *flags]) == 0
+        said.append([line for line in capsys.readouterr().err.splitlines() if line.startswith("cache:")])
+    assert said[0][0].startswith("cache: 0 of ") and "0 of 1 scenarios wholly" in said[0][0], said
+    assert "1 of 1 scenarios wholly" in said[1][0], said
+    assert said[2] == ["cache: off (scene-only work computed)"], said
