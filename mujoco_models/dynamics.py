@@ -1,13 +1,13 @@
 """MuJoCo's dynamics under our contact law: the dynamics twin.
 
 The same body as the native twin (rigid_body.py's mass, COM and inertia in an explicit
-<inertial>, the same joints), but no contact pair: the ground's force is the seed's penalty law
-(contact_law.py), evaluated by a compiled passive-force callback (passive.py) at the contact
-sites, from MuJoCo's own site positions and Jacobians. MuJoCo does everything else: mass
-matrix, gravity, the Jacobian transpose that turns contact forces into joint forces, and the
-integration. Run with MuJoCo's Euler (velocities first, then positions with the new
-velocities: our semi-implicit Euler) or RK4 (classical, on qpos and qvel), it takes the same
-steps as a correct simulator of the scene, to round-off.
+<inertial>, the same joints), but no contact pair: the ground's force is the scene's penalty law,
+any family of scene_types.laws (contact_law.py), evaluated by a compiled passive-force callback
+(passive.py) at the contact sites, from MuJoCo's own site positions and Jacobians. MuJoCo does
+everything else: mass matrix, gravity, the Jacobian transpose that turns contact forces into
+joint forces, and the integration. Run with MuJoCo's Euler (velocities first, then positions
+with the new velocities: our semi-implicit Euler) or RK4 (classical, on qpos and qvel), it
+takes the same steps as a correct simulator of the scene, to round-off.
 
 MuJoCo's implicit integrators are refused: they leave custom passive forces out of the
 derivatives they treat implicitly, so they would integrate the contact explicitly while
@@ -21,6 +21,7 @@ rolling resistance; friction_at="midpoint" applies friction where MuJoCo puts it
 """
 from __future__ import annotations
 
+from scene_types.laws import law_text
 from scene_types.schema import Scene
 from scene_types.trajectory import Trajectory
 
@@ -56,6 +57,7 @@ def simulate_dynamics(scene: Scene, integrator: str = "Euler", dt: float | None 
         evals = reg.calls
         meta = {
             "contact_law": "callback",
+            "law": law_text(scene.contact),
             "native_normal": bool(native_normal),
             "friction_at": friction_at,
             "contact_pairs": twin.n_pairs,

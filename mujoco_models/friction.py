@@ -20,8 +20,13 @@ So the penalty twin uses explicit contact pairs with
                                    raises Fn by only mu c_t v (A_t + R_t) / R_n, about
                                    2 mu c_t v / impratio: 2 mu^2 alpha v N_ref / 1e4 = 1 % of
                                    N_ref at 2 m/s for mu 0.5, alpha 100
-    c_t = mu alpha N_ref           the tanh law's slope at the resting load N_ref = m g / n_rest
-                                   per contact (without gravity: the normal damping c)
+    c_t = mu alpha N_ref           the friction law's slope at zero slip and the resting load
+                                   N_ref = m g / n_rest per contact (tanh, ramp and smooth_coulomb
+                                   all have the slope mu Fn alpha there; without gravity: the
+                                   normal damping c). The bare sign's slope is infinite: its row
+                                   gets c_t = 1 / (A_ref h), the damping that stops a resting
+                                   contact point's slip in one step h, the stiffest the step
+                                   resolves (a hard Coulomb cone, as MuJoCo's own friction)
     B = c_t (A_ref + R_t)          so that f = -c_t v exactly when A_jj = A_ref, the contact
                                    point's tangential inverse inertia 1/m + r_y^2 / I at rest
 
@@ -69,15 +74,19 @@ def tangential_inverse_inertia(scene: Scene, props: RigidBody) -> float:
 
 
 def penalty_friction_rows(scene: Scene, props: RigidBody, a_hat: float,
-                          impedance: float) -> FrictionRows:
-    """The friction rows of the penalty mapping (module docstring); a_hat 1/kg, impedance d."""
+                          impedance: float, dt: float) -> FrictionRows:
+    """The friction rows of the penalty mapping (module docstring); a_hat 1/kg, impedance d,
+    dt the twin's step (s: the sign law's row)."""
     impratio = FRICTION_IMPRATIO
-    if scene.has("gravity"):
+    a_ref = tangential_inverse_inertia(scene, props)
+    if scene.contact.friction_law == "sign":
+        load = props.mass * scene.g / resting_contacts(scene) if scene.has("gravity") else 0.0
+        damping = 1.0 / (a_ref * dt)
+    elif scene.has("gravity"):
         load = props.mass * scene.g / resting_contacts(scene)
         damping = scene.contact.mu * scene.contact.alpha * load
     else:
         load, damping = 0.0, scene.contact.c
-    a_ref = tangential_inverse_inertia(scene, props)
     r_t = (1.0 - impedance) / impedance * a_hat / impratio
     # B = -solreffriction[1] / d must equal c_t (A_ref + R_t)
     return FrictionRows(impratio, (0.0, -impedance * damping * (a_ref + r_t)), damping, load, a_ref)

@@ -1,5 +1,6 @@
-"""The dynamics twin's contact forces: the seed's law (contact_law.py) applied through MuJoCo's
-passive-force callback, as a compiled function pointer (numba cfunc: no GIL, no Python per call).
+"""The dynamics twin's contact forces: the scene's contact law, any family (contact_law.py), applied
+through MuJoCo's passive-force callback, as a compiled function pointer (numba cfunc: no GIL, no
+Python per call).
 
 MuJoCo calls mjcb_passive(m, d) inside every mj_forward (each RK4 stage too), after the
 position stage (site_xpos, the Jacobians' cdof are current) and before the accelerations; what
@@ -11,12 +12,15 @@ it adds to qfrc_passive is a generalised force like any other. For each contact 
     J     = mj_jac(c)                       MuJoCo's Jacobian of the point: translational rows
                                             Jp (3 x nv), rotational Jr (3 x nv)
     vc    = Jp qvel                         the point's velocity; MuJoCo's z is the scene's y
-    Fn    = normal law (d, vc_z)
-    Ft    = -mu Fn tanh(alpha vs_x)         vs: the slip at the friction point (below)
-    qfrc_passive += Jp^T (0, 0, Fn) + Jp_f^T (Ft, 0, 0) + Jr^T (0, -tau_roll, 0)
+    Fn    = the damping law's normal force (d, vc_z)
+    Ft    = the friction law's force (Fn, vs_x)     vs: the slip at the friction point (below)
+    tau   = the rolling law's torque (Fn, omega)
+    qfrc_passive += Jp^T (0, 0, Fn) + Jp_f^T (Ft, 0, 0) + Jr^T (0, -tau, 0)
 
 (the hinge's axis is -y, so a counter-clockwise torque tau is the vector (0, -tau, 0), and
-omega = -(Jr qvel)_y). Switches, for the ladder that takes MuJoCo's native contact apart:
+omega = -(Jr qvel)_y). Each law is a family code with its parameters (roll_sharpness too) from
+the scene; law_parameters raises ValueError naming a law contact_law.py does not implement.
+Switches, for the ladder that takes MuJoCo's native contact apart:
 
     native_normal   MuJoCo's own contact pairs (condim 1) make the normal force; the callback
                     adds friction and rolling only. Their load Fn is still the scene's normal law
@@ -58,11 +62,15 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 
 from .compile_cache import clear_if_sources_changed
-from .contact_law import DAMPING_LAWS, friction_force, normal_force, rolling_torque
+from .contact_law import (DAMPING_CODES, FRICTION_CODES, ROLL_CODES, friction_force, normal_force,
+                          rolling_torque)
 
 # parameters of one run (float64), by index
 (P_CONTACT, P_FRICTION, P_ROLLING, P_LAW, P_K, P_C, P_MU, P_ALPHA, P_MU_ROLL, P_BELOW,
- P_NATIVE_NORMAL, P_MIDPOINT, P_BODY, N_PARAMS) = range(14)
+ P_NATIVE_NORMAL, P_MIDPOINT, P_BODY, P_DISSIPATION, P_FRICTION_LAW, P_ROLL_LAW, P_ROLL_SHARPNESS,
+ N_PARAMS) = range(18)
+# the scene's law field -> the codes of the families the callback implements
+LAW_CODES = {"damping_law": DAMPING_CODES, "friction_law": FRICTION_CODES, "roll_law": ROLL_CODES}
 # registry fields of one slot (int64), by index
 (R_DATA, R_QVEL, R_QFRC, R_SITE_XPOS, R_SCRATCH, R_PARAMS, R_NV, R_NSITE, R_CALLS,
  N_FIELDS) = range(10)
@@ -160,6 +168,7 @@ def apply_contact_law(m, d, slot):
     xpos = carray(_f64(slot[R_SITE_XPOS]), (nsite, 3))
     body = np.int64(p[P_BODY])
     law = np.int64(p[P_LAW])
+    friction_law, roll_law = np.int64(p[P_FRICTION_LAW]), np.int64(p[P_ROLL_LAW])
     for i in range(nsite):
         cx, cy, cz = xpos[i, 0], xpos[i, 1], xpos[i, 2] - p[P_BELOW]
         depth = -cz
@@ -169,7 +178,7 @@ def apply_contact_law(m, d, slot):
         vn = 0.0
         for j in range(nv):
             vn += jac[2 * nv + j] * qvel[j]          # Jp row z
-        fn = normal_force(law, p[P_K], p[P_C], depth, vn)
+        fn = normal_force(law, p[P_K], p[P_C], p[P_DISSIPATION], depth, vn)
         if p[P_NATIVE_NORMAL] == 0.0:
             for j in range(nv):
                 qfrc[j] += jac[2 * nv + j] * fn
@@ -177,7 +186,7 @@ def apply_contact_law(m, d, slot):
             omega = 0.0
             for j in range(nv):
                 omega -= jac[3 * nv + nv + j] * qvel[j]   # Jr row y: omega about -y
-            tau = rolling_torque(p[P_MU_ROLL], fn, omega)
+            tau = rolling_torque(roll_law, p[P_MU_ROLL], p[P_ROLL_SHARPNESS], fn, omega)
             for j in range(nv):
                 qfrc[j] -= jac[3 * nv + nv + j] * tau     # Jr^T (0, -tau, 0)
         if p[P_FRICTION] != 0.0:
@@ -186,7 +195,7 @@ def apply_contact_law(m, d, slot):
             slip = 0.0
             for j in range(nv):
                 slip += jac[j] * qvel[j]              # Jp row x at the friction point
-            ft = friction_force(p[P_MU], p[P_ALPHA], fn, slip)
+            ft = friction_force(friction_law, p[P_MU], p[P_ALPHA], fn, slip)
             for j in range(nv):
                 qfrc[j] += jac[j] * ft
 
@@ -223,10 +232,27 @@ def callback():
         return _compiled
 
 
+def law_code(contact, field: str) -> int:
+    """The callback's code of the family a [contact] names in `field` (damping_law,
+    friction_law, roll_law); ValueError naming the law when the callback does not implement it."""
+    name = getattr(contact, field)
+    codes = LAW_CODES[field]
+    if name not in codes:
+        raise ValueError(f"the dynamics twin's callback does not implement {field} = {name!r} "
+                         f"(it implements: {', '.join(codes)})")
+    return codes[name]
+
+
+def _value(x) -> float:
+    """A law parameter as float64; None (a parameter the family does not take) as NaN."""
+    return float("nan") if x is None else float(x)
+
+
 def law_parameters(scene, rb, below: float, *, native_normal: bool, friction_at: str) -> np.ndarray:
-    """The callback's parameters for a scene: effect switches, k, c, mu, alpha, mu_roll (NaN
-    for an effect the scene does not list, so that a stray use shows), the depth offset below
-    each site (m) and the switches."""
+    """The callback's parameters for a scene: effect switches, the three law codes, k, c,
+    dissipation, mu, alpha, mu_roll, roll_sharpness (NaN for an effect the scene does not list
+    or a parameter its family does not take, so that a stray use shows), the depth offset below
+    each site (m) and the switches. ValueError naming a law the callback does not implement."""
     if friction_at not in FRICTION_AT:
         raise ValueError(f"unknown friction_at {friction_at!r} (expected one of: {', '.join(FRICTION_AT)})")
     on, ct, nan = scene.has, scene.contact, float("nan")
@@ -234,13 +260,15 @@ def law_parameters(scene, rb, below: float, *, native_normal: bool, friction_at:
     p[P_CONTACT] = float(on("contact"))
     p[P_FRICTION] = float(on("contact") and on("friction"))
     p[P_ROLLING] = float(on("contact") and on("rolling_friction") and rb.rotates)
-    p[P_LAW] = DAMPING_LAWS[ct.damping_law]
+    p[P_LAW] = law_code(ct, "damping_law")
+    p[P_FRICTION_LAW] = law_code(ct, "friction_law")
+    p[P_ROLL_LAW] = law_code(ct, "roll_law")
     if on("contact"):
-        p[P_K], p[P_C] = ct.k, ct.c
+        p[P_K], p[P_C], p[P_DISSIPATION] = ct.k, ct.c, ct.dissipation
     if p[P_FRICTION]:
-        p[P_MU], p[P_ALPHA] = ct.mu, ct.alpha
+        p[P_MU], p[P_ALPHA] = ct.mu, _value(ct.alpha)
     if p[P_ROLLING]:
-        p[P_MU_ROLL] = ct.mu_roll
+        p[P_MU_ROLL], p[P_ROLL_SHARPNESS] = ct.mu_roll, _value(ct.roll_sharpness)
     p[P_BELOW] = below
     p[P_NATIVE_NORMAL] = float(native_normal)
     p[P_MIDPOINT] = float(friction_at == "midpoint")

@@ -102,7 +102,7 @@ def contact_parameters(scene: Scene, mapping: str, a_hat: float, dt: float,
     if mapping not in MAPPINGS:
         raise ValueError(f"unknown solref mapping {mapping!r} (expected one of: {', '.join(MAPPINGS)})")
     if mapping == "penalty":
-        return _penalty(scene, a_hat, props)
+        return _penalty(scene, a_hat, props, dt)
     k, c, m = scene.contact.k, scene.contact.c, scene.body.mass
     wn, zeta = natural_frequency(scene)
     if mapping == "physical":
@@ -132,7 +132,7 @@ def contact_parameters(scene: Scene, mapping: str, a_hat: float, dt: float,
                              notes=notes + _refsafe(solref, dt) + _default_friction(scene))
 
 
-def _penalty(scene: Scene, a_hat: float, props: RigidBody) -> ContactParameters:
+def _penalty(scene: Scene, a_hat: float, props: RigidBody, dt: float) -> ContactParameters:
     k, c, d = scene.contact.k, scene.contact.c, PENALTY_IMPEDANCE
     scale = pyramid_scale(scene)
     solref = (-k * a_hat * scale, -c * a_hat * scale)
@@ -145,17 +145,25 @@ def _penalty(scene: Scene, a_hat: float, props: RigidBody) -> ContactParameters:
         mu, n = scene.contact.mu, condim_for(scene)
         notes.append(f"pyramidal cone: solref scaled by mu^2 (1 + mu^2) / (condim - 1) = {scale:.4g} so the "
                      f"normal force is ours; friction is then viscous mu^2 c / (condim - 1) = "
-                     f"{mu * mu * c / (n - 1):.3g} N s/m capped by the pyramid, not tanh")
+                     f"{mu * mu * c / (n - 1):.3g} N s/m capped by the pyramid, not the scene's "
+                     f"{scene.contact.friction_law} law")
         return ContactParameters("penalty", solref, PENALTY_SOLIMP, a_hat, notes=notes)
     if not scene.has("friction"):
         return ContactParameters("penalty", solref, PENALTY_SOLIMP, a_hat, notes=notes)
-    rows = penalty_friction_rows(scene, props, a_hat, d)
-    load = (f"mu alpha N_ref, N_ref = m g / {resting_contacts(scene)} = {rows.reference_load:.3g} N "
-            f"per resting contact" if rows.reference_load else "the normal damping c: no gravity, no resting load")
+    rows = penalty_friction_rows(scene, props, a_hat, d, dt)
+    if scene.contact.friction_law == "sign":
+        load = (f"1 / (A_ref dt), A_ref = {rows.a_ref:.4g} 1/kg: the bare sign law's infinite slope, "
+                f"as stiff as a step resolves")
+        ours = ("ours is mu Fn sign(v), which no viscous row reaches: at a slip below mu Fn / c_t the "
+                "row holds the point where ours flips its full force each step")
+    else:
+        load = (f"mu alpha N_ref, N_ref = m g / {resting_contacts(scene)} = {rows.reference_load:.3g} N "
+                f"per resting contact" if rows.reference_load else "the normal damping c: no gravity, no resting load")
+        ours = (f"ours is the {scene.contact.friction_law} law mu Fn s(alpha v), whose slope mu Fn alpha "
+                f"follows Fn, so during an impact (Fn >> N_ref) ours grips harder")
     notes.append(
         f"friction (penalty): MuJoCo's friction row is viscous, c_t v with c_t = {rows.damping:.4g} N s/m "
-        f"({load}), capped at mu Fn by the {scene.mujoco.cone} cone; ours is mu Fn tanh(alpha v), whose "
-        f"slope mu Fn alpha follows Fn, so during an impact (Fn >> N_ref) ours grips harder; below the "
+        f"({load}), capped at mu Fn by the {scene.mujoco.cone} cone; {ours}; below the "
         f"cap the row also cancels part of the other tangential accelerations (partial stiction); "
         f"impratio = {rows.impratio:g} and solreffriction keep MuJoCo's cone projection from raising "
         f"the normal force while sliding (only by about 2 mu c_t v / impratio, see mujoco_models/friction.py)")
@@ -166,9 +174,11 @@ def _penalty(scene: Scene, a_hat: float, props: RigidBody) -> ContactParameters:
 def _default_friction(scene: Scene) -> list[str]:
     if not scene.has("friction"):
         return []
+    creep = ("our bare sign law flips its full force each step" if scene.contact.friction_law == "sign"
+             else f"our {scene.contact.friction_law} law lets the body creep")
     return ["friction: MuJoCo's friction rows use the normal's solref and impratio 1: a soft "
-            "constraint that drives the slip to zero inside the cone mu Fn (static friction), where "
-            "our tanh law lets the body creep; while sliding, the elliptic cone's projection raises "
+            f"constraint that drives the slip to zero inside the cone mu Fn (static friction), where "
+            f"{creep}; while sliding, the elliptic cone's projection raises "
             "the normal force above the spring's"]
 
 

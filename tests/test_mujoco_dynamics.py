@@ -15,7 +15,6 @@ from numba import cfunc, types
 from compare.scenarios import load
 from custom_sim import parse_scene
 from mujoco_models import simulate_dynamics, simulate_mujoco
-from mujoco_models.contact_law import ROLL_SHARPNESS
 from mujoco_models.frames import qpos_qvel
 from mujoco_models.passive import installed, law_parameters
 from mujoco_models.rigid_body import rigid_body
@@ -65,7 +64,7 @@ def law_by_hand(scene, state, lift=0.0):
         fx, fy = fx + ft, fy + fn
         tau += rx * fn - ryf * ft
         if scene.has("rolling_friction"):
-            tau -= ct.mu_roll * fn * math.tanh(ROLL_SHARPNESS * om)
+            tau -= ct.mu_roll * fn * math.tanh(ct.roll_sharpness * om)
     return np.array([fx, fy, tau])
 
 
