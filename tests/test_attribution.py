@@ -5,7 +5,7 @@ import dataclasses
 import pytest
 
 from compare.scenarios import load
-from compare.verdict.attribution import CAUSES, attribute
+from compare.verdict.attribution import attribute, cause
 
 
 def ladder(name: str, duration: float | None = None) -> dict:
@@ -21,7 +21,8 @@ def test_rungs_in_order():
     by_name, rows = ladder("box_drop", 0.5)
     assert [r["name"] for r in rows] == ["native", "friction law", "contact point", "mapping"]
     assert all(r["measured"] for r in rows), [r["note"] for r in rows]
-    assert all(r["cause"] == CAUSES[r["name"]] for r in rows)
+    assert all(r["cause"] == cause(r["name"], load("box_drop")) for r in rows)
+    assert "mu Fn tanh(alpha v)" in by_name["friction law"]["cause"]
     _, rows = ladder("rolling_circle", 0.5)
     assert [r["name"] for r in rows] == ["native", "friction law and shared cone", "contact point", "mapping",
                                          "damping law"]
@@ -76,3 +77,13 @@ def test_attribute_command(capsys, tmp_path):
     assert rows[0]["contact"]["pass"] is True and rows[0]["attribution"][0]["name"] == "native"
     assert main(["attribute", "no_such_scene"]) == 2
     assert "unknown scenario" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("law, words", [("hunt_crossley", "no damping at touchdown"),
+                                        ("unclamped", "pulls the body down"),
+                                        ("compression", "damps only while a point approaches")])
+def test_the_damping_rung_names_the_scenes_family(law, words):
+    scene = load("point_drop")
+    params = {"dissipation": 2.0, "c": 0.0} if law == "hunt_crossley" else {}
+    scene = dataclasses.replace(scene, contact=dataclasses.replace(scene.contact, damping_law=law, **params))
+    assert words in cause("damping law", scene)

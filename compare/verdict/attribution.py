@@ -9,7 +9,7 @@ rung removing one named cause.
     mapping         custom_sim with the linear damping law: our exact spring-damper k d - c v in place of
                     MuJoCo's penalty row (and custom_sim's integrator at MuJoCo's update and step)
     integrator      custom_sim with the scene's integrator and step (only when MuJoCo has neither)
-    damping law     custom_sim itself, with the scene's damping law
+    damping law     custom_sim itself, with the scene's damping law (any family but linear)
 
 Each rung is one run; its position_error_max and angle_error_max are measured against
 custom_sim's run of the scene, and its share the fall of those from the rung before (negative
@@ -36,12 +36,12 @@ from .case import as_case
 CAUSES = {
     "native": "MuJoCo's own contact with the penalty mapping and every effect of the scene: all the "
               "causes below together.",
-    "friction law": "MuJoCo's friction is viscous, c_t v with the tanh law's slope at the resting load, capped "
-                    "at mu Fn; ours is mu Fn tanh(alpha v), whose grip grows with the load, so during an impact "
+    "friction law": "MuJoCo's friction is viscous, c_t v with the scene law's slope at the resting load, capped "
+                    "at mu Fn; ours is {friction}, whose grip grows with the load, so during an impact "
                     "(loads of tens of m g) ours stops a sliding contact much sooner.",
     "friction law and shared cone": "MuJoCo's friction is viscous, capped at mu Fn, and its rolling resistance "
                                     "shares that one cap (the elliptic cone) with sliding, so while a disk "
-                                    "slides it has almost none; ours is mu Fn tanh(alpha v) with mu_roll Fn of "
+                                    "slides it has almost none; ours is {friction} with mu_roll Fn of "
                                     "rolling resistance beside it.",
     "contact point": "MuJoCo puts a contact's point mid-way through the penetration, d/2 above our corner "
                      "(d reaches about a centimetre at an impact), and applies friction and measures slip "
@@ -51,10 +51,27 @@ CAUSES = {
                "and tumbling motion amplifies that small force difference.",
     "integrator": "custom_sim's own integrator and step, which MuJoCo has not (MuJoCo has no explicit or "
                   "implicit Euler for contact forces).",
-    "damping law": "the scene's compression law damps only while a point approaches the ground; MuJoCo's "
-                   "contact damps both ways (our linear law), so its body leaves the ground slower and "
-                   "bounces lower.",
+    "damping law": "{damping}; MuJoCo's contact is a spring-damper that damps both ways and never pulls (our "
+                   "linear law).",
 }
+# what each family is, for the causes above
+FRICTION_PHRASE = {"tanh": "mu Fn tanh(alpha v)", "ramp": "a stiction ramp mu Fn clamp(alpha v, -1, 1)",
+                   "smooth_coulomb": "mu Fn v / sqrt(v^2 + 1/alpha^2)", "sign": "bare Coulomb mu Fn sign(v)"}
+DAMPING_PHRASE = {
+    "compression": "the scene's compression law damps only while a point approaches the ground, so the body "
+                   "leaves the ground faster and bounces higher than under MuJoCo's",
+    "linear": "the scene's linear law is MuJoCo's kind",
+    "unclamped": "the scene's unclamped law k d - c v_n pulls the body down while a point separates fast",
+    "hunt_crossley": "the scene's Hunt-Crossley law k d (1 - dissipation v_n) has no damping at touchdown and "
+                     "damps in proportion to the depth; MuJoCo's penalty twin of it is an undamped spring "
+                     "(c = 0), so the whole dissipation is this rung's",
+}
+
+
+def cause(name: str, scene: Scene) -> str:
+    """The rung's cause in words, naming the scene's own friction and damping families."""
+    ct = scene.contact
+    return CAUSES[name].format(friction=FRICTION_PHRASE[ct.friction_law], damping=DAMPING_PHRASE[ct.damping_law])
 # custom_sim integrators taking MuJoCo's update
 MUJOCO_UPDATE = {"Euler": "semi_implicit_euler", "RK4": "rk4", "implicit": "semi_implicit_euler",
                  "implicitfast": "semi_implicit_euler"}
@@ -133,7 +150,7 @@ def attribute(scene: Scene, native=None, case=None) -> list[dict]:
     reference = case.states(scene, scene.integrator, scene.dt)
     out, before = [], None
     for name, run in rungs(scene, native, case):
-        row = {"name": name, "cause": CAUSES[name], "measured": False, "note": "",
+        row = {"name": name, "cause": cause(name, scene), "measured": False, "note": "",
                "position_error_max": None, "angle_error_max": None, "share_position": None,
                "share_angle": None, "step_position": None, "step_angle": None}
         try:

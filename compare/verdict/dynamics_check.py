@@ -189,8 +189,7 @@ def sensitivity(scene: Scene, mujoco_integrator: str, dt: float, twin: np.ndarra
         ini = scene.initial
         member = dataclasses.replace(
             scene,
-            contact=dataclasses.replace(ct, k=ct.k * f, c=ct.c * f, mu=ct.mu * f, alpha=ct.alpha * f,
-                                        mu_roll=ct.mu_roll * f),
+            contact=scaled_law(ct, f),
             initial=dataclasses.replace(ini, angle=ini.angle + sign * SENSITIVITY_PERTURBATION * max(1.0, abs(ini.angle))))
         try:
             other = cached(simulate_dynamics)(member, mujoco_integrator, dt * f).states()
@@ -201,8 +200,16 @@ def sensitivity(scene: Scene, mujoco_integrator: str, dt: float, twin: np.ndarra
     return spread_pos, spread_ang
 
 
+def scaled_law(contact, f: float):
+    """The contact law with each of its parameters scaled by f (a family's absent parameter,
+    None under a sign law, stays absent)."""
+    names = ("k", "c", "dissipation", "mu", "alpha", "mu_roll", "roll_sharpness")
+    return dataclasses.replace(contact, **{n: getattr(contact, n) * f for n in names
+                                           if getattr(contact, n) is not None})
+
+
 def friction_step_number(scene: Scene, states: np.ndarray) -> float:
-    """max over the run and the contact points of h mu alpha Fn (1 - tanh^2(alpha v_t)) / m_t,
+    """max over the run and the contact points of h mu Fn shape'(v_t) / m_t (tanh: alpha sech^2(alpha v_t)),
     the friction update's h lambda (m_t: 1 / (1/m + r_n^2 / I), r_n the lever normal to the
     ground); above FRICTION_STABILITY an explicit step amplifies any difference. 0 without friction."""
     if not (scene.has("contact") and scene.has("friction")):
@@ -217,14 +224,35 @@ def friction_step_number(scene: Scene, states: np.ndarray) -> float:
     rx, ry = c * lx - s * ly, s * lx + c * ly
     depth = -(y + ry)
     vn, vt = vy + om * rx, vx - om * ry
-    if ct.damping_law == "linear":
-        fn = np.maximum(0.0, ct.k * depth - ct.c * vn)
-    else:
-        fn = ct.k * depth + ct.c * np.maximum(0.0, -vn)
-    fn = np.where(depth > 0.0, fn, 0.0)
+    fn = np.where(depth > 0.0, normal_force(ct, depth, vn), 0.0)
     inv_mt = 1.0 / rb.mass + (ry * ry / rb.inertia if rb.rotates else 0.0)
-    rate = scene.dt * ct.mu * ct.alpha * fn * (1.0 - np.tanh(ct.alpha * vt) ** 2) * inv_mt
+    rate = scene.dt * ct.mu * fn * friction_slope(ct, vt) * inv_mt
     return float(rate.max())
+
+
+def normal_force(ct, depth, vn):
+    """Fn (N) of each damping family at depth d (m) and normal velocity v_n (m/s), unclipped
+    by touching."""
+    if ct.damping_law == "compression":
+        return ct.k * depth + ct.c * np.maximum(0.0, -vn)
+    if ct.damping_law == "linear":
+        return np.maximum(0.0, ct.k * depth - ct.c * vn)
+    if ct.damping_law == "unclamped":
+        return ct.k * depth - ct.c * vn
+    return np.maximum(0.0, ct.k * depth * (1.0 - ct.dissipation * vn))
+
+
+def friction_slope(ct, v):
+    """d(shape)/dv (s/m) of each friction family's shape at slip v: Ft = -mu Fn shape(v). The
+    bare sign's is infinite at zero slip (no explicit step is stable there) and 0 elsewhere."""
+    if ct.friction_law == "tanh":
+        return ct.alpha * (1.0 - np.tanh(ct.alpha * v) ** 2)
+    if ct.friction_law == "ramp":
+        return np.where(np.abs(ct.alpha * v) < 1.0, ct.alpha, 0.0)
+    if ct.friction_law == "smooth_coulomb":
+        e2 = 1.0 / ct.alpha ** 2
+        return e2 / (v * v + e2) ** 1.5
+    return np.where(v == 0.0, np.inf, 0.0)
 
 
 def _reason(row: dict, steps: int) -> str:
