@@ -8,7 +8,7 @@ an explicit <inertial>; contact sites at the contact points; energy sensors):
     native     MuJoCo's own contact: explicit pairs with condim from the scene's effects and one
                of three solref mappings (penalty | physical | seed)
                simulate_mujoco(scene, solref=None, integrator=None, dt=None)          run.py
-    dynamics   no contact pairs: the seed's penalty law, written again (contact_law.py), applied
+    dynamics   no contact pairs: the scene's penalty law (any family), written again (contact_law.py), applied
                by a compiled passive-force callback (passive.py) at the sites, through MuJoCo's
                site positions and Jacobians; MuJoCo's Euler or RK4 integrates
                simulate_dynamics(scene, integrator="Euler", dt=None, *,
