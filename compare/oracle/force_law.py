@@ -2,19 +2,21 @@
 
 The same equations as reference.right_hand_side, written for arrays: states Z of shape (N, 6) =
 [x, y, theta, vx, vy, omega], one row per state, each row on its own branch of every switch
-(touching or not, which side of max(), the sign of omega). For contact point i, arm r_i:
+(touching or not, which side of max() or of a clamp, the sign of a slip or of omega). For
+contact point i, arm r_i:
 
     r_i  = R(theta) l_i   (l_i itself for the circle and the point mass)
     d_i  = -(y + r_iy)                     touching while d_i > 0
     vc_i = (vx - omega r_iy, vy + omega r_ix)
-    Fn_i = k d_i + c max(0, -vc_iy)        compression law (seed Algorithm 1, line 4)
-         | max(0, k d_i - c vc_iy)         linear law (never pulls)
-    Ft_i = -mu Fn_i tanh(alpha vc_ix)      (seed Algorithm 1, line 5, at the point's velocity)
-    tau  = sum_i (r_ix Fn_i - r_iy Ft_i) - mu_roll Fn_i s(omega)
+    Fn_i = the scene's damping_law at (d_i, vc_iy)      (scene_types.laws: compression, linear,
+                                                         unclamped, hunt_crossley)
+    Ft_i = -mu Fn_i phi(vc_ix)                          phi the friction_law's unit shape: tanh,
+                                                         ramp, smooth_coulomb, sign
+    tau  = sum_i (r_ix Fn_i - r_iy Ft_i) - mu_roll Fn_i s(omega)    s: tanh or sign
 
 `Law` names the ways a hand-written simulator can deviate from these lines. The default is the
-seed's law; compare/verdict/mistakes.py builds its catalogue by replacing one field at a time,
-so a variant differs from the reference in exactly the line it names and nowhere else.
+scene's own law; compare/verdict/mistakes.py builds its catalogue by replacing one field at a
+time, so a variant differs from the reference in exactly the line it names and nowhere else.
 
 `scale` is what the round-off of each acceleration is proportional to: the sum of the
 magnitudes of every term that enters it, each term's inputs taken in absolute value (running
@@ -22,38 +24,60 @@ error analysis: a sum of n terms computed in floating point is off by at most ab
 the sum of their magnitudes, whatever cancellation leaves of the result). The depth d = -(y + r_y)
 is the worst cancellation (0.05 m - 0.0495 m at rest): its round-off is eps (|y| + |r|), and
 k times that is the term k (|y| + |r|). An angle theta of many turns costs eps |theta| in
-R(theta), so |r| enters as |l| (1 + |theta|).
+R(theta), so |r| enters as |l| (1 + |theta|). Each family adds its own terms (docs/oracle-laws.md):
+Hunt-Crossley's product k d (1 - dissipation v_n) carries both factors' round-off; a friction
+shape carries |phi'| times the slip's round-off; the bare sign, whose value round-off can flip
+where the slip is within its own round-off of zero, carries that jump there (see SIGN_ULPS).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
+from scene_types import Contact
+
 from .reference import Equations
+
+EPS = np.finfo(float).eps
+# The slip vx - omega r_y of two codes differs by a few roundings of its inputs (the rotation of
+# the arm, the product, the difference) and, at an RK4 stage, of the stage state itself: within
+# SIGN_ULPS eps (|vx| + |omega| |r|) of zero its sign is not decided by the law but by rounding.
+SIGN_ULPS = 64.0
+# The schema's sharpness for a regularised family (s/m, s/rad): what a code uses that regularises
+# where the scene asks the bare sign (a variant "tanh where the scene asks sign" needs a number).
+DEFAULT_ALPHA = Contact().alpha
+DEFAULT_ROLL_SHARPNESS = Contact().roll_sharpness
 
 
 @dataclass(frozen=True)
 class Law:
-    """How the force law is evaluated. The defaults are the seed's law (the reference).
+    """How the force law is evaluated. The defaults are the scene's own law (the reference).
 
     slip_velocity      "contact": friction on the contact point's velocity vc_x; "com": on vx
     torque_sign        +1: tau = r x F = r_x Fy - r_y Fx; -1: the cross product taken backwards
     damping_in_air     the damper c max(0, -vc_y) also acts at points not touching (d <= 0)
-    damping_law        None: the scene's; else "compression" or "linear" regardless of the scene
-    friction_shape     "tanh" or "sign" (the unregularised Coulomb law)
+    damping_law        None: the scene's; else a family name (scene_types.laws.DAMPING_LAWS)
+                       regardless of the scene, or a function Fn(eq, d, vc_y) (N; arrays) for a
+                       one-off variant (its round-off is taken as the scene's family's)
+    friction_shape     None: the scene's; else a family name (FRICTION_LAWS), or a function
+                       phi(slip m/s, alpha s/m) -> unit shape in [-1, 1] (round-off as above)
     friction_load      "point": mu Fn_i at each point; "body": mu times the sum of all Fn
     gravity_mass       True: weight m g; False: a force of g newtons (the m forgotten)
-    rolling            "scene": as the reference (the scene's roll_law);
-                       "sign": the bare sign(omega); "none": no rolling resistance
+    rolling            "scene": as the reference (the scene's roll_law); "tanh" or "sign":
+                       that family regardless of the scene; "none": no rolling resistance
     points_turn        True: contact arms turn with theta; False: corners never rotated
+
+    A regularised family the scene gives no sharpness for (tanh where it asks sign) uses the
+    schema's default, DEFAULT_ALPHA or DEFAULT_ROLL_SHARPNESS.
     """
 
     slip_velocity: str = "contact"
     torque_sign: float = 1.0
     damping_in_air: bool = False
-    damping_law: str | None = None
-    friction_shape: str = "tanh"
+    damping_law: str | Callable | None = None
+    friction_shape: str | Callable | None = None
     friction_load: str = "point"
     gravity_mass: bool = True
     rolling: str = "scene"
@@ -75,6 +99,122 @@ def arms(eq: Equations, theta: np.ndarray, law: Law = SEED_LAW):
         return cs * lx - sn * ly, sn * lx + cs * ly, length * (1.0 + np.abs(theta))
     ones = np.ones_like(theta)
     return lx * ones, ly * ones, length * ones
+
+
+def damping_family(eq: Equations, law: Law = SEED_LAW):
+    """The damping law the code evaluates: a family name or a variant's function."""
+    return law.damping_law or eq.law
+
+
+def friction_family(eq: Equations, law: Law = SEED_LAW):
+    """The friction law the code evaluates: a family name or a variant's function."""
+    return law.friction_shape or eq.friction_law
+
+
+def normal_force(eq: Equations, d, vcy, law: Law = SEED_LAW):
+    """Fn (N) of the law's damping family at depths d (m) and normal velocities vc_y (m/s),
+    arrays of one shape; meaningful where the point touches (d > 0)."""
+    name = damping_family(eq, law)
+    if callable(name):
+        return name(eq, d, vcy)
+    k, c = eq.k, eq.c
+    if name == "compression":
+        return k * d + c * np.maximum(0.0, -vcy)
+    if name == "linear":
+        return np.maximum(0.0, k * d - c * vcy)
+    if name == "unclamped":
+        return k * d - c * vcy
+    if name == "hunt_crossley":
+        return np.maximum(0.0, k * d * (1.0 - eq.dissipation * vcy))
+    raise ValueError(f"unknown damping law {name!r}")
+
+
+def normal_scale(eq: Equations, d, y, vy, om, r_err, law: Law = SEED_LAW):
+    """What the round-off of Fn is proportional to (N): k (|y| + |r|) + c (|vy| + |omega| |r|)
+    for the c-families; Hunt-Crossley's product k d (1 - D v_n) carries k (|y| + |r|) (1 + D V)
+    + k |d| D V, V = |vy| + |omega| |r| the normal velocity's magnitude. A variant's function
+    is taken at its scene's family."""
+    name = damping_family(eq, law)
+    if callable(name) or name != "hunt_crossley":
+        name = eq.law
+    if name != "hunt_crossley":
+        return eq.k * (np.abs(y) + r_err) + eq.c * (np.abs(vy) + np.abs(om) * r_err)
+    speed = np.abs(vy) + np.abs(om) * r_err
+    diss = eq.dissipation * speed
+    return eq.k * (np.abs(y) + r_err) * (1.0 + diss) + eq.k * np.abs(d) * diss
+
+
+def _sharpness(eq: Equations) -> float:
+    """alpha (s/m) for a regularised family: the scene's, or the default where it asks sign."""
+    return eq.alpha if np.isfinite(eq.alpha) else DEFAULT_ALPHA
+
+
+def friction_shape(eq: Equations, slip, law: Law = SEED_LAW):
+    """(phi, dphi, alpha): the unit shape phi(slip) in [-1, 1] of the law's friction family at
+    slips (m/s), |d phi / d(alpha slip)| (dimensionless) for the round-off scale, and the
+    sharpness alpha (s/m; 0 for the sign, whose slope is nowhere finite but at its jump)."""
+    name = friction_family(eq, law)
+    if callable(name):
+        alpha = _sharpness(eq)
+        phi = name(slip, alpha)
+        name = eq.friction_law
+    else:
+        phi = None
+    if name == "sign":
+        return (np.sign(slip) if phi is None else phi), np.zeros_like(slip), 0.0
+    alpha = _sharpness(eq)
+    arg = alpha * slip
+    if name == "tanh":
+        if phi is None:
+            phi = np.tanh(arg)
+        return phi, 1.0 - np.tanh(arg) ** 2, alpha
+    if name == "ramp":
+        inside = np.abs(arg) <= 1.0
+        return (np.clip(arg, -1.0, 1.0) if phi is None else phi), inside.astype(float), alpha
+    if name == "smooth_coulomb":
+        if phi is None:
+            phi = slip / np.sqrt(slip * slip + 1.0 / alpha ** 2)
+        return phi, (1.0 + arg * arg) ** -1.5, alpha
+    raise ValueError(f"unknown friction law {name!r}")
+
+
+def sign_undecided(eq: Equations, slip, vx, om, r_err, law: Law = SEED_LAW):
+    """(N, n) bool: where the law's friction is the bare sign and the slip lies within its own
+    round-off of zero (SIGN_ULPS), so that two codes may take either side of the jump (a slip
+    of exactly 0 from inputs of exactly 0 rounds nowhere: decided)."""
+    name = friction_family(eq, law)
+    if name != "sign":
+        return np.zeros(np.shape(slip), dtype=bool)
+    return np.abs(slip) < SIGN_ULPS * EPS * (np.abs(vx) + np.abs(om) * r_err)
+
+
+def rolling_shape(eq: Equations, om, law: Law = SEED_LAW):
+    """(s, s_scale): the rolling law's unit shape s(omega) and the round-off of tanh's argument
+    carried through it (dimensionless); the sign of omega, a state component, rounds nowhere."""
+    sharp = eq.roll_sharpness
+    if law.rolling == "sign" or (law.rolling == "scene" and sharp is None):
+        return np.sign(om), np.zeros_like(om)
+    sharp = DEFAULT_ROLL_SHARPNESS if sharp is None else sharp
+    s = np.tanh(sharp * om)
+    return s, sharp * (1.0 - s * s) * np.abs(om)
+
+
+def _friction(eq: Equations, law: Law, fn, fn_scale, acting, vx2, om2, vcx, r_err):
+    """(Ft, Ft's round-off scale), each (N, n) N, at the acting points."""
+    slip = vcx if law.slip_velocity == "contact" else vx2 * np.ones_like(vcx)
+    load = fn if law.friction_load == "point" else fn.sum(axis=1, keepdims=True) * acting
+    load_scale = fn_scale if law.friction_load == "point" else fn_scale.sum(axis=1, keepdims=True) * acting
+    shape, dshape, alpha = friction_shape(eq, slip, law)
+    ft = np.where(acting, -eq.mu * load * shape, 0.0)
+    # d phi = alpha phi' d slip, d slip ~ eps (|vx| + |omega| |r|)
+    ft_scale = np.where(acting, eq.mu * (load_scale + np.abs(load) * alpha * dshape
+                                         * (np.abs(vx2) + np.abs(om2) * r_err)), 0.0)
+    turning = om2 if law.slip_velocity == "contact" else np.zeros_like(om2)   # vx itself rounds nowhere
+    undecided = sign_undecided(eq, slip, vx2, turning, r_err, law) & acting
+    if undecided.any():
+        # a jump of 2 mu |Fn| that rounding may or may not take, entered as its size over eps
+        ft_scale = ft_scale + np.where(undecided, 2.0 * eq.mu * np.abs(load) / EPS, 0.0)
+    return ft, ft_scale
 
 
 def accelerations(eq: Equations, Z: np.ndarray, law: Law = SEED_LAW, touching=None):
@@ -100,16 +240,11 @@ def accelerations(eq: Equations, Z: np.ndarray, law: Law = SEED_LAW, touching=No
         touching = d > 0.0 if touching is None else np.asarray(touching, dtype=bool)
         vcx = vx2 - om2 * ry
         vcy = vy2 + om2 * rx
-        k, c = eq.k, eq.c
-        if (law.damping_law or eq.law) == "compression":
-            fn = k * d + c * np.maximum(0.0, -vcy)
-        else:
-            fn = np.maximum(0.0, k * d - c * vcy)
-        # what the round-off of Fn is proportional to: k (|y| + |r|) + c (|vy| + |omega| |r|)
-        fn_scale = k * (np.abs(y2) + r_err) + c * (np.abs(vy2) + np.abs(om2) * r_err)
+        fn = normal_force(eq, d, vcy, law)
+        fn_scale = normal_scale(eq, d, y2, vy2, om2, r_err, law)
         if law.damping_in_air:
             acting = np.ones_like(touching)
-            fn = np.where(touching, fn, c * np.maximum(0.0, -vcy))
+            fn = np.where(touching, fn, eq.c * np.maximum(0.0, -vcy))
         else:
             acting = touching
             fn = np.where(touching, fn, 0.0)
@@ -117,16 +252,7 @@ def accelerations(eq: Equations, Z: np.ndarray, law: Law = SEED_LAW, touching=No
         ft = np.zeros_like(fn)
         ft_scale = np.zeros_like(fn)
         if eq.friction:
-            slip = vcx if law.slip_velocity == "contact" else vx2 * np.ones_like(vcx)
-            load = fn if law.friction_load == "point" else fn.sum(axis=1, keepdims=True) * acting
-            load_scale = fn_scale if law.friction_load == "point" else fn_scale.sum(axis=1, keepdims=True) * acting
-            arg = eq.alpha * slip
-            shape = np.tanh(arg) if law.friction_shape == "tanh" else np.sign(arg)
-            ft = np.where(acting, -eq.mu * load * shape, 0.0)
-            # d tanh = alpha sech^2 d slip, d slip ~ eps (|vx| + |omega| |r|)
-            sech2 = 1.0 - np.tanh(arg) ** 2
-            ft_scale = np.where(acting, eq.mu * (load_scale + np.abs(load) * eq.alpha * sech2
-                                                 * (np.abs(vx2) + np.abs(om2) * r_err)), 0.0)
+            ft, ft_scale = _friction(eq, law, fn, fn_scale, acting, vx2, om2, vcx, r_err)
         fx += ft.sum(axis=1)
         fy += fn.sum(axis=1)
         tau += law.torque_sign * (rx * fn - ry * ft).sum(axis=1)
@@ -134,12 +260,7 @@ def accelerations(eq: Equations, Z: np.ndarray, law: Law = SEED_LAW, touching=No
         sy += fn_scale.sum(axis=1)
         st += (r_err * (fn_scale + ft_scale + np.abs(fn) + np.abs(ft))).sum(axis=1)
         if eq.rolling and law.rolling != "none":
-            if law.rolling == "sign" or eq.roll_sharpness is None:
-                s = np.sign(om2)
-                s_scale = np.zeros_like(om2)
-            else:
-                s = np.tanh(eq.roll_sharpness * om2)
-                s_scale = eq.roll_sharpness * (1.0 - s * s) * np.abs(om2)
+            s, s_scale = rolling_shape(eq, om2, law)
             tau -= (eq.mu_roll * fn * s).sum(axis=1)
             st += (eq.mu_roll * (fn_scale + np.abs(fn) * (1.0 + s_scale))).sum(axis=1)
     inv_i = 1.0 / eq.inertia if eq.rotates else 0.0
@@ -148,8 +269,17 @@ def accelerations(eq: Equations, Z: np.ndarray, law: Law = SEED_LAW, touching=No
     return a, scale
 
 
+def bare_sign(eq: Equations, law: Law = SEED_LAW) -> bool:
+    """Whether the law, in this scene, has a bare sign: friction "sign" or rolling "sign" (the
+    force jumps where a slip or omega crosses zero)."""
+    friction = eq.contact and eq.friction and friction_family(eq, law) == "sign"
+    rolling = eq.contact and eq.rolling and law.rolling != "none" and (
+        law.rolling == "sign" or (law.rolling == "scene" and eq.roll_sharpness is None))
+    return bool(friction or rolling)
+
+
 def contact_state(eq: Equations, Z: np.ndarray):
-    """Per state and point: depth d (N, n) m and slip velocity vc_x (N, n) m/s (seed law)."""
+    """Per state and point: depth d (N, n) m and slip velocity vc_x (N, n) m/s."""
     rx, ry, _ = arms(eq, np.atleast_2d(Z)[:, 2])
     Z = np.atleast_2d(Z)
     return -(Z[:, 1:2] + ry), Z[:, 3:4] - Z[:, 5:6] * ry

@@ -29,7 +29,7 @@ from typing import Callable
 
 import numpy as np
 
-from compare.oracle.force_law import SEED_LAW, Law, arms, contact_state
+from compare.oracle.force_law import SEED_LAW, Law, arms, contact_state, normal_force
 from compare.oracle.reference import Equations
 
 from .one_step import METHODS, one_step
@@ -181,7 +181,8 @@ CATALOGUE: tuple[Mistake, ...] = (
     Mistake("friction_sign_not_tanh",
             "Algorithm 1, line 5: Ff <- -mu Fn tanh(alpha v_x)",
             "friction -mu Fn sign(v) (Coulomb's law unregularised) instead of tanh(alpha v)",
-            law=_law(friction_shape="sign"), applies=_has("friction")),
+            law=_law(friction_shape="sign"),
+            applies=lambda scene, eq, integrator: scene.has("friction") and eq.friction_law == "tanh"),
     Mistake("friction_on_total_normal_force",
             "Algorithm 2, line 9: F_i <- ContactForce(c_i, v_i)",
             "each point's friction bounded by the whole body's normal force instead of its own Fn_i",
@@ -275,7 +276,7 @@ UNITS = {"x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": 
 
 
 def contact_loads(eq: Equations, Z):
-    """Per state and point, under the seed's law: depth d (N, n) m, normal velocity vc_y
+    """Per state and point, under the scene's law: depth d (N, n) m, normal velocity vc_y
     (N, n) m/s, slip vc_x (N, n) m/s and normal force Fn (N, n) N (0 where d <= 0)."""
     Z = np.atleast_2d(np.asarray(Z, dtype=float))
     rx, ry, _ = arms(eq, Z[:, 2])
@@ -284,10 +285,7 @@ def contact_loads(eq: Equations, Z):
     slip = Z[:, 3:4] - Z[:, 5:6] * ry
     if not eq.contact:
         return depth, vcy, slip, np.zeros_like(depth)
-    if eq.law == "compression":
-        fn = eq.k * depth + eq.c * np.maximum(0.0, -vcy)
-    else:
-        fn = np.maximum(0.0, eq.k * depth - eq.c * vcy)
+    fn = normal_force(eq, depth, vcy)
     return depth, vcy, slip, np.where(depth > 0.0, fn, 0.0)
 
 
@@ -490,15 +488,24 @@ def carries_weight(eq: Equations, fn):
     return (weight > 0.0) & (np.abs(fn.sum(axis=1) - weight) <= RESTING_LOAD * weight)
 
 
+def damper_leaving(eq: Equations, depth, vcy):
+    """The size (N) of the damper's pull-back at a point leaving the ground (vc_y > 0): c vc_y
+    for the c-families, k d D vc_y for Hunt-Crossley (before any clamp at zero)."""
+    if eq.law == "hunt_crossley":
+        return eq.k * depth * eq.dissipation * vcy
+    return eq.c * vcy
+
+
 def rebound_score(eq: Equations, depth, vcy, loaded, least):
     """(N,) N: at each state, the largest difference the damping law makes at a touching point
-    leaving the ground under load (vc_y > 0): min(c vc_y, k d), which compression-only damping
-    (k d), linear damping (max(0, k d - c vc_y)) and an unclamped damper (k d - c vc_y) tell
-    apart; -1 where no point leaves under load, the difference is below `least` (N,) N (see
-    least_acting_force) or the scene has no damper."""
-    if not eq.contact or eq.c <= 0.0:
+    leaving the ground under load (vc_y > 0): min(damper, k d) (damper_leaving), which
+    compression-only damping (k d), linear damping (max(0, k d - c vc_y)), an unclamped damper
+    (k d - c vc_y) and Hunt-Crossley tell apart; -1 where no point leaves under load, the
+    difference is below `least` (N,) N (see least_acting_force) or the scene has no damper."""
+    damped = eq.dissipation > 0.0 if eq.law == "hunt_crossley" else eq.c > 0.0
+    if not eq.contact or not damped:
         return np.full(depth.shape[0], -1.0)
-    differ = np.minimum(eq.c * vcy, eq.k * depth)
+    differ = np.minimum(damper_leaving(eq, depth, vcy), eq.k * depth)
     leaving = loaded & (vcy > 0.0) & (differ > np.asarray(least)[:, None])
     score = np.where(leaving, differ, -1.0)
     return score.max(axis=1) if score.shape[1] else np.full(depth.shape[0], -1.0)
@@ -518,7 +525,7 @@ def pick_moments(scene, states) -> list[tuple[str, np.ndarray]]:
     least = least_acting_force(eq, states, scene.dt)
     loaded = touching & (fn > least[:, None])
     any_touch, any_load = touching.any(axis=1), loaded.any(axis=1)
-    band = 1.0 / eq.alpha if eq.friction else np.inf
+    band = eq.slip_band if eq.friction else np.inf
     speed = np.hypot(states[:, 3], states[:, 4]) + np.abs(states[:, 5])
     moments = []
 

@@ -19,6 +19,17 @@ times h. Positions take h times the velocity's bound on top (semi-implicit Euler
 new velocities). Implicit Euler's v1 is the root of an equation a simulator solves only to its
 own Newton tolerance: IMPLICIT_SOLVE_TOL on v1 and h IMPLICIT_SOLVE_TOL on q1 are added.
 
+Every contact-law family (scene_types.laws) comes through the force law. Implicit Euler's equation
+G(v1) = 0 is solved by a damped Newton iteration with a forward-difference Jacobian: across the
+kinks of max(), of the ramp and of Hunt-Crossley's clamp G is continuous and piecewise smooth, a
+difference quotient is a one-sided slope there, and the backtracking keeps max |G| falling, so
+the iteration reaches the root as it does on smooth pieces. The bare sign (friction or rolling
+"sign") makes G jump where a slip or omega crosses zero: where the root lies on a smooth piece
+it is found as usual; where it would lie on the jump there is no root, and the set-valued
+equation (the sign anywhere in [-1, 1]) need not have a unique solution, so no answer can be
+held right or wrong: those rows are reported by `undecided` as not judged (NO_UNIQUE_STEP),
+never given a verdict. See docs/oracle-laws.md.
+
 States read from a text file carry the file's own rounding (Rounding: fixed decimals, an
 absolute half unit, or significant digits, a relative one). The next state's half unit adds
 as it is; the state before's half units are carried through the step by the step itself
@@ -30,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from compare.oracle.force_law import SEED_LAW, Law, accelerations, arms
+from compare.oracle.force_law import SEED_LAW, Law, accelerations, arms, bare_sign
 from compare.oracle.reference import Equations
 
 EPS = np.finfo(float).eps
@@ -156,7 +167,8 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
     """Damped Newton on G(v1) = 0 for every row at once, from the explicit predictor, with a
     forward-difference Jacobian (the kinks of the law make an analytic one no better). Returns
     (Z1, bound, solved): solved (N,) is False where no root was found, which happens where G
-    jumps over zero (a damper engaging with c |vc_y| at touchdown): there is no exact step."""
+    jumps over zero (a damper engaging with c |vc_y| at touchdown, judged by jump_defect; a
+    bare sign's jump at zero slip or spin, not judged: see undecided): there is no exact step."""
     v0 = Z[:, 3:]
     a0, _ = accelerations(eq, Z, law)
     V = v0 + h * a0
@@ -210,6 +222,22 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
     bv = _velocity_bound(v0, V, h, scale) + IMPLICIT_SOLVE_TOL
     bq = _position_bound(Z[:, :3], q1, h, V) + h * bv
     return np.hstack([q1, V]), np.hstack([bq, bv]), solved
+
+
+NO_UNIQUE_STEP = ("implicit Euler under a bare sign law (friction or rolling 'sign'): the step's equation "
+                  "jumps where a slip or omega crosses zero, and where it has no root its set-valued "
+                  "meaning (the sign anywhere in [-1, 1]) need not have a unique solution, so no step "
+                  "there is the right one: not judged")
+
+
+def undecided(eq: Equations, solved, law: Law = SEED_LAW) -> np.ndarray | None:
+    """(N,) bool: the implicit Euler rows that cannot be judged, those without a root under a
+    law with a bare sign (NO_UNIQUE_STEP); None for the explicit methods (solved None). Rows
+    without a root under the other laws are touchdown jumps, judged by jump_defect."""
+    if solved is None:
+        return None
+    solved = np.asarray(solved, dtype=bool)
+    return ~solved if bare_sign(eq, law) else np.zeros_like(solved)
 
 
 STEPS = {"explicit_euler": explicit_euler, "semi_implicit_euler": semi_implicit_euler,
