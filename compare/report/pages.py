@@ -52,7 +52,7 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
             "states": lambda: plots.states(scene, shown, tmp / "states.png", result.reference),
             "path": lambda: plots.path_in_plane(scene, shown, tmp / "path.png"),
             "error": lambda: plots.error(scene, diffs, tmp / "error.png"),
-            "energy": lambda: plots.energy(scene, shown, tmp / "energy.png"),
+            "energy": lambda: plots.energy(scene, result.balances, tmp / "energy.png"),
             "snapshots": lambda: plots.snapshots(scene, tested, twin, tmp / "snapshots.png"),
             "residuals": lambda: plots.step_residuals(scene, result.residuals, result.checks, tmp / "residuals.png"),
         }, result.warnings)   # a figure that fails adds a warning (data["warnings"] is that list)
@@ -91,6 +91,22 @@ def checks_table(result: Result) -> list[str]:
         where = f"; first at step {c['first_step']} ({c.get('phase', '')}, {c.get('component', '')})" \
             if c["pass"] is False and c.get("first_step") is not None else ""
         lines.append(f"| {check_label(c)} | {c['isolates']} | {diff} | {tol} | {_verdict(c['pass'])}{note}{where} |")
+    return lines
+
+
+def energy_table(balances: dict, initial: float) -> list[str]:
+    """The work-energy balance of each run: what the physics dissipated (W, by effect) and what
+    the numerics made or lost (R = E - E(0) + W; docs/energy-balance.md)."""
+    lines = [f"The energy balance (E(0) = {_fmt(initial, ' J')}): *E(end) - E(0)* is mostly the physics on a "
+             "damped scene; *W* the work each dissipative effect did; *R* = E(end) - E(0) + W what the numerics "
+             "created (+) or destroyed (-), zero for the exact motion.", "",
+             "| run | E(end) - E(0) | W damping | W friction | W rolling | R(end) | max abs R |",
+             "|---|---|---|---|---|---|---|"]
+    for name, b in balances.items():
+        w = b["dissipated"]
+        lines.append(f"| {name} | {_fmt(b['delta_E'], ' J')} | {_fmt(w['damping'], ' J')} | {_fmt(w['friction'], ' J')} "
+                     f"| {_fmt(w['rolling'], ' J')} | {_fmt(b['residual_end'], ' J')} | {_fmt(b['residual_max'], ' J')} |")
+    lines += [""] + [f"- *{name}*: W by {b['rule']}." for name, b in balances.items()] + [""]
     return lines
 
 
@@ -167,9 +183,7 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         "",
         *_image(figures, "error"),
         *_image(figures, "energy"),
-        f"Energy drift E(end) - E(0): {result.simulator} {_fmt(data['energy_drift_custom'], ' J')}, "
-        f"MuJoCo {_fmt(data['energy_drift_mujoco'], ' J')} (E(0) = {_fmt(data['energy_initial'], ' J')}).",
-        "",
+        *energy_table(data["energy_balance"], data["energy_initial"]),
         "## Events",
         "",
         f"| event | {result.simulator} | MuJoCo |",
@@ -225,24 +239,27 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
         "One row per scenario. A scenario passes when every judged check passes (the second table). *pos. max* "
         "and *pos. RMS* are the distance between the centres of mass of the simulator under test and of MuJoCo "
         "with its own contact (max and root-mean-square over the run; shown, and attributed on each page), "
-        "*angle max* the largest angle difference, *drift* the energy E(end) - E(0) of each simulator, *time* the "
-        "wall time of the stepping alone.",
+        "*angle max* the largest angle difference, *drift* R(end) = E(end) - E(0) + W of each simulator: the "
+        "energy its numerics created or destroyed, with the work W the scene's damping, friction and rolling "
+        "resistance dissipated beside it (docs/energy-balance.md), *time* the wall time of the stepping alone.",
         "",
         "| scenario | simulator | body | integrator | dt (s) | pos. max (m) | pos. RMS (m) | angle max (rad) "
-        "| drift (J) | drift MuJoCo (J) | time (s) | time MuJoCo (s) | result |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| drift R (J) | dissipated W (J) | drift R MuJoCo (J) | time (s) | time MuJoCo (s) | result |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
+        own = r["energy_balance"][r.get("simulator", "custom_sim")]
+        twin = r["energy_balance"]["mujoco"]
         failed = ", ".join(r.get("failed_checks", []))
         lines.append(
             f"| [{r['name']}]({r['name']}/index.md) | {r.get('simulator', 'custom_sim')} | {r['shape']} "
             f"| {r['integrator']} | {r['dt']:g} "
             f"| {_fmt(r['position_error_max'])} | {_fmt(r['position_error_rms'])} | {_fmt(r['angle_error_max'])} "
-            f"| {_fmt(r['energy_drift_custom'])} | {_fmt(r['energy_drift_mujoco'])} "
+            f"| {_fmt(own['residual_end'])} | {_fmt(sum(own['dissipated'].values()))} | {_fmt(twin['residual_end'])} "
             f"| {_fmt(r['wall_time_custom'])} | {_fmt(r['wall_time_mujoco'])} "
             f"| {_status_cell(r, failed)} |")
     for name, status, why in failures:
-        lines.append(f"| {name} | | | | | | | | | | | | **{status}**: {why} |")
+        lines.append(f"| {name} | | | | | | | | | | | | | **{status}**: {why} |")
     lines += ["", "## Every judged check", "",
               "| scenario | check | largest position difference (m) | tolerance (m) | largest angle difference (rad) "
               "| tolerance (rad) | verdict |", "|---|---|---|---|---|---|---|"]

@@ -23,6 +23,7 @@ STYLE = {"custom": dict(color="tab:blue", lw=1.6, label="custom_sim"),
          "mujoco": dict(color="tab:orange", lw=1.2, ls="--", label="MuJoCo"),
          "user": dict(color="tab:green", lw=1.4, ls="-.", label="your simulator"),
          "reference": dict(color="black", lw=0.8, ls=":", label="converged reference")}
+E_PLUS_W_STYLE = dict(lw=0.9, alpha=0.7, ls=":")   # E + W beside each run's E
 INTEGRATOR_COLOURS = {"explicit_euler": "tab:red", "semi_implicit_euler": "tab:blue",
                       "implicit_euler": "tab:purple", "rk4": "tab:green"}
 
@@ -144,17 +145,34 @@ def error(scene: Scene, diffs: dict, path: Path) -> str:
     return _save(fig, path)
 
 
-def energy(scene: Scene, shown: tuple[Trajectory, ...], path: Path) -> str:
-    fig, ax = plt.subplots(figsize=(8, 4))
-    for tr in shown:
-        k = _envelope(tr.energy)
-        ax.plot(tr.t[k], tr.energy[k], **STYLE[tr.simulator])
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("energy (J)")
-    ax.set_title(f"{scene.name}: kinetic + gravitational + elastic contact energy")
-    ax.legend(loc="best")
-    ax.grid(alpha=0.3)
+def energy(scene: Scene, balances: dict, path: Path) -> str:
+    """The work-energy balance (compare/energy) of each run: E and E + W above (E + W stays at
+    E(0) for the exact motion), the residual R = E - E(0) + W below (the numerics' energy)."""
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+    for name, b in balances.items():
+        style = dict(_style_of(name), label=name if name in ("custom_sim", "reference") else _style_of(name)["label"])
+        kept = E_PLUS_W_STYLE if name != "reference" else {}
+        k = _envelope(b.E)
+        top.plot(b.t[k], b.E[k], **style)
+        if name != "reference":
+            k = _envelope(b.E + b.dissipated)
+            top.plot(b.t[k], (b.E + b.dissipated)[k], **{**style, **kept, "label": f"{style['label']}: E + W"})
+        k = _envelope(b.R)
+        bottom.plot(b.t[k], b.R[k], **style)
+    top.set_ylabel("energy (J)")
+    top.set_title(f"{scene.name}: E = kinetic + m g y + sum k d^2 / 2, and E + W (W: the work dissipated)")
+    top.legend(loc="best", fontsize=8)
+    bottom.set_ylabel("R = E - E(0) + W (J)")
+    bottom.set_xlabel("time (s)")
+    bottom.axhline(0.0, color="0.6", lw=0.8)
+    for ax in (top, bottom):
+        ax.grid(alpha=0.3)
     return _save(fig, path)
+
+
+def _style_of(name: str) -> dict:
+    """A run's line style by the simulator's name (the simulator under test otherwise)."""
+    return STYLE.get({"custom_sim": "custom"}.get(name, name), STYLE["user"])
 
 
 def snapshots(scene: Scene, a: Trajectory, b: Trajectory, path: Path, count: int = 6) -> str:

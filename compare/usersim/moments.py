@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compare.oracle.reference import Equations
-from compare.verdict.mistakes import (RESTING_LOAD, carries_weight, contact_loads, least_acting_force,
+from compare.verdict.mistakes import (RESTING_LOAD, carries_weight, contact_loads, damper_leaving, least_acting_force,
                                       rebound_score)
 from custom_sim import Scene
 
@@ -65,7 +65,7 @@ def pick_moments(scene: Scene, states: np.ndarray) -> list[Moment]:
     points = np.asarray(eq.points, dtype=float).reshape(-1, 2)
     size = float(np.max(np.hypot(points[:, 0], points[:, 1]))) if len(points) else 0.0
     speed = np.hypot(z[:, 3], z[:, 4]) + np.abs(om) * size
-    band = 1.0 / scene.contact.alpha if scene.has("friction") else np.inf
+    band = eq.slip_band if scene.has("friction") else np.inf
     out = []
 
     flight = np.flatnonzero(~any_touch & ((speed > 0.0) | (eq.g > 0.0)))
@@ -90,7 +90,8 @@ def pick_moments(scene: Scene, states: np.ndarray) -> list[Moment]:
         j = int(np.argmax(np.where(loaded[i] & (vcy[i] > 0.0), vcy[i], -np.inf)))
         out.append(Moment("rebound", i, f"point {j} leaving the ground at {vcy[i, j]:.3g} m/s, "
                                         f"{depth[i, j] * 1e3:.3g} mm deep, Fn {fn[i, j]:.3g} N "
-                                        f"(damper c vc_y = {eq.c * vcy[i, j]:.3g} N), t = {i * scene.dt:.4g} s"))
+                                        f"(damper {damper_leaving(eq, depth[i, j], vcy[i, j]):.3g} N), "
+                                        f"t = {i * scene.dt:.4g} s"))
 
     if scene.has("friction"):
         # slipping beyond the stiction band under a normal load whose friction acts
@@ -126,14 +127,16 @@ def not_probed(scene: Scene, picked: list[Moment]) -> list[dict]:
     """The kinds of moment the scene's effects call for that no state of the run offers with
     the effect acting: [{name, effect, why}] (JSON-safe)."""
     have = {m.kind for m in picked}
-    band = f"{1.0 / scene.contact.alpha:.3g} m/s" if scene.has("friction") else ""
+    alpha = scene.contact.alpha
+    band = f"{1.0 / alpha:.3g} m/s" if scene.has("friction") and alpha else "0 m/s (the sign law)"
     why = {"flight": "the body is never in flight while it moves or feels gravity"}
     if scene.has("contact"):
         why["touchdown"] = "no state in contact after a flight carries a contact force above round-off"
-        why["rebound"] = ("the scene has no damper (c = 0): the damping law does not act"
-                          if scene.contact.c <= 0.0 else
+        undamped = scene.contact.c <= 0.0 and scene.contact.dissipation <= 0.0
+        why["rebound"] = ("the scene has no damper (c = 0, no dissipation): the damping law does not act"
+                          if undamped else
                           "no touching point leaves the ground under a contact force with its damper "
-                          "c vc_y above round-off")
+                          "above round-off")
         if scene.has("friction"):
             why["sliding"] = (f"no touching point slips faster than the stiction band 1/alpha = {band} "
                               f"under a normal load")

@@ -57,6 +57,7 @@ class Result:
     error_details: str = ""                           # the user's own traceback, where their code raised
     keeps_state: str | None = None                    # a step function whose answer depends on earlier calls
     law_differences: list = field(default_factory=list)  # `run --law`: each effect that differs from the scene's
+    balances: dict = field(default_factory=dict)      # simulator -> compare.energy.Balance (E, W, R)
 
     @property
     def judged(self) -> list[dict]:
@@ -140,6 +141,8 @@ def _run(result: Result, case: Case, simulator) -> None:
     result.checks += rows
     native_twins(result, case)
     result.checks.append(native_row(scene, result.metrics))
+    result.balances = energy_balances(result, case)
+    result.checks += energy_column_rows(result)
     result.attribution = attribution_ladder(case, result.mujoco)
     if scene.scene_contact is not None:
         from .law_difference import law_differences
@@ -240,6 +243,63 @@ def attribution_ladder(case: Case, native: Trajectory) -> list[dict]:
     return attribute(scene, native if scene.mujoco.solref == "penalty" else None, case=case)
 
 
+def energy_balances(result: Result, case: Case) -> dict:
+    """The work-energy balance (compare/energy) of each trajectory the scenario holds: the
+    simulator under test (W by its integrator's own rule, or the trapezoid rule for an integrator
+    the harness does not know or states read from a file), custom_sim beside a user's, MuJoCo's
+    native run (from its states), and the converged reference (its work integrated with it)."""
+    from ..energy import balance
+    from ..energy.mujoco_side import native_from_run
+
+    scene, tested = result.scene, result.under_test
+    rule = tested.integrator if tested.integrator in INTEGRATORS and not tested.meta.get("rounding") else None
+    out = {result.simulator: balance(scene, tested.t, tested.states(), rule)}
+    if tested is not result.custom:
+        out[CUSTOM] = balance(scene, result.custom.t, result.custom.states(), result.custom.integrator)
+    twin = result.mujoco
+    out["mujoco"] = native_from_run(scene, twin.t, twin.states(), twin.integrator, twin.meta.get("solref_mapping", "penalty"))
+    reference = reference_balance(case)
+    if reference is not None:
+        out["reference"] = reference
+    return out
+
+
+def reference_balance(case: Case):
+    """The converged reference's balance, its work integrated with the motion (None without a
+    reference, or a reference that carries no work)."""
+    from ..energy.balance import Balance
+    from ..energy.terms import energy
+    from ..energy.law import body_of
+    from ..oracle.reference import ReferenceError
+    try:
+        ref = case.reference()
+    except ReferenceError:
+        return None
+    work = getattr(ref, "work", None)
+    if work is None:
+        return None
+    E = energy(case.scene, body_of(case.scene), ref.states)
+    return Balance(ref.t, E, work, E - E[0] + work.sum(axis=1), "integrated with the motion (DOP853, the "
+                   "reference's tolerance)", "reference", np.zeros(6))
+
+
+def energy_column_rows(result: Result) -> list[dict]:
+    """Check energy: where the simulator under test reports its own energy (custom_sim; a
+    user's 7th column or `energy` column), that it is the energy of its states."""
+    from ..energy.column import energy_column_check
+
+    tested = result.under_test
+    if tested is not result.custom and tested.meta.get("energy_source") != "user":
+        return []
+    verdict = energy_column_check(result.scene, tested.states(), tested.energy)
+    return [{"name": "energy", "isolates": "the simulator's own energy column against the energy of its states "
+                                           "(kinetic + m g y + sum k d^2 / 2)",
+             "integrator": None, "position_error_max": None, "angle_error_max": None,
+             "tolerance_position": None, "tolerance_angle": None, "pass": verdict.agrees,
+             "energy_difference_max": verdict.difference_max, "energy_tolerance_max": verdict.tolerance_max,
+             "reason": verdict.text}]
+
+
 def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> dict:
     """An integrator the harness does not know, beside MuJoCo's RK4 under the same contact law
     at the same step: shown, not judged (no round-off bound holds between two methods)."""
@@ -333,6 +393,8 @@ def stability_warnings(scene: Scene) -> list[str]:
 
 def metrics_json(result: Result) -> dict:
     """metrics.json: the keys docs/report-files.md promises, then ours."""
+    from ..energy import metrics_block
+
     scene, tested, twin = result.scene, result.under_test, result.mujoco
     m = result.metrics
     limit = stable_step(scene)
@@ -381,6 +443,7 @@ def metrics_json(result: Result) -> dict:
         "contact_check": contact,
         "diagnosis": result.diagnosis,
         "law": law_json(result),
+        "energy_balance": {name: {**metrics_block(b), "rule": b.rule} for name, b in result.balances.items()},
     }
 
 

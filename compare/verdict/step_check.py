@@ -18,8 +18,8 @@ import numpy as np
 from compare.oracle.force_law import SEED_LAW, Law, contact_state
 from compare.oracle.reference import Equations
 
-from .one_step import (FORCE_ULPS, IMPLICIT_SOLVE_TOL, INPUT_ROUNDING_SAFETY, METHODS, STATE_ULPS, Rounding,
-                       jump_defect, one_step)
+from .one_step import (FORCE_ULPS, IMPLICIT_SOLVE_TOL, INPUT_ROUNDING_SAFETY, METHODS, NO_UNIQUE_STEP, STATE_ULPS,
+                       Rounding, jump_defect, one_step, undecided)
 
 COMPONENTS = ("x", "y", "theta", "vx", "vy", "omega")
 ISOLATES = "one step of the integrator from each state, against an independent right-hand side"
@@ -42,6 +42,7 @@ class StepResiduals:
     no_root: np.ndarray
     jump_point: np.ndarray
     input_bound: np.ndarray | None = None   # (n, 6) the share of bound the states' own rounding makes
+    undecided: np.ndarray | None = None     # (n,) implicit Euler steps a bare sign law leaves without a unique step
 
     @property
     def over(self) -> np.ndarray:
@@ -70,12 +71,18 @@ def step_residuals(eq: Equations, states: np.ndarray, integrator: str, dt: float
     bound = np.empty((n, 6))
     input_bound = np.zeros((n, 6))
     no_root = np.zeros(n, dtype=bool)
+    open_steps = np.zeros(n, dtype=bool)
     jump_point = np.full(n, -1)
     for lo in range(0, n, CHUNK):
         hi = min(n, lo + CHUNK)
         Z0, Z1 = states[lo:hi], states[lo + 1:hi + 1]
         mine, b, solved, b_in = one_step(eq, Z0, dt, integrator, law, input_rtol, input_atol, parts=True)
         r = np.abs(mine - Z1)
+        unsure = undecided(eq, solved, law)
+        if unsure is not None and unsure.any():   # no step is the right one there: residual 0, not judged
+            open_steps[lo:hi] = unsure
+            r[unsure] = 0.0
+            solved = solved | unsure
         if solved is not None and not solved.all():
             rows = np.flatnonzero(~solved)
             defect, point, depth = jump_defect(eq, Z0[rows], Z1[rows], dt, law)
@@ -84,7 +91,7 @@ def step_residuals(eq: Equations, states: np.ndarray, integrator: str, dt: float
             r[rows] = defect
             no_root[lo + rows] = True
         residual[lo:hi], bound[lo:hi], input_bound[lo:hi] = r, b, b_in
-    return StepResiduals(residual, bound, no_root, jump_point, input_bound)
+    return StepResiduals(residual, bound, no_root, jump_point, input_bound, open_steps)
 
 
 def _point_name(eq: Equations, i: int) -> str:
@@ -255,6 +262,9 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
                    component=COMPONENTS[comp],
                    failing_steps=int(failing.size),
                    first_residual=float(r[i, comp]), first_bound=float(b[i, comp]))
+    if res.undecided is not None and res.undecided.any():
+        row["undecided_steps"] = int(res.undecided.sum())
+        row["reason"] += f"; {row['undecided_steps']} step(s) not judged: {NO_UNIQUE_STEP}"
     if bad is not None:
         row["reason"] += f"; state {bad} is not finite (checked up to it)"
     return row
