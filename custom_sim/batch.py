@@ -42,8 +42,8 @@ from .simulate import blowup_guard
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 # Model fields in the order of custom_sim.model.Model: the floats, then the switches.
-_FLOATS = ("inv_mass", "inv_inertia", "g", "k", "c", "mu", "alpha", "mu_roll")
-_SWITCHES = ("damping_law", "gravity", "contact", "friction", "rolling", "points_rotate")
+_FLOATS = ("inv_mass", "inv_inertia", "g", "k", "c", "dissipation", "mu", "alpha", "mu_roll", "roll_sharpness")
+_SWITCHES = ("damping_law", "friction_law", "roll_law", "gravity", "contact", "friction", "rolling", "points_rotate")
 _GUARD = 7   # blowup_guard's numbers
 
 
@@ -98,8 +98,8 @@ def _run_batch(floats, switches, points, n_points, z0, dt, steps, methods, guard
     for b in prange(floats.shape[0]):
         f = floats[b]
         s = switches[b]
-        model = Model(f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7],
-                      s[0], s[1] != 0, s[2] != 0, s[3] != 0, s[4] != 0, s[5] != 0)
+        model = Model(f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7], f[8], f[9],
+                      s[0], s[1], s[2], s[3] != 0, s[4] != 0, s[5] != 0, s[6] != 0, s[7] != 0)
         g = guards[b]
         guard = (g[0], g[1], g[2], g[3], g[4], g[5], g[6])
         pts = points[b, :n_points[b]].copy()

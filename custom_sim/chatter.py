@@ -26,6 +26,12 @@ need s > 2 / alpha, i.e. h lambda_f > 2 with lambda_f = mu alpha Fn / m_t, past 
 free flight nothing flips (the motion is ballistic), so
 every period-2 component of the state shows at a contact point's slip or normal velocity.
 
+A bare sign law (friction_law or roll_law "sign") has no regularised band: under either Euler
+method a point that should stick is kicked by the whole h mu Fn / m_t every step, whatever h,
+so its slip flips for ever at that amplitude. Every flip is saturated (its saturation speed is
+0), so such a run is chatter at any step, and unstable_law() names the law that no step size
+makes stable. (RK4's stages cancel there instead: a constant creep, which is no chatter.)
+
 FLIP_FLOOR keeps round-off out: a body at rest carries velocities of |y| eps k h / m ~ 1e-17 m/s
 whose sign is noise. CHATTER_STEPS makes a run of flips by chance (noise that is still above
 the floor) as unlikely as 2^-8 = 4e-3 per point and step; nothing but round-off is that
@@ -36,6 +42,8 @@ from __future__ import annotations
 import math
 
 from numba import njit
+
+from .model import SIGN
 
 # consecutive flips that make chatter (even: the window compares like signs); short enough to
 # catch the friction chatter of the briefest impact at its scene's step (stiff_contact's
@@ -62,7 +70,9 @@ def chattering_point(model, points, z, watch):
     flips (2 + q) and the size at the start of the current window (4 + q). Written as one loop
     without a helper function: a call per quantity cost 100 ns a step, the loop 3 ns."""
     theta, vx, vy, om = z[2], z[3], z[4], z[5]
-    saturated = 1.0 / model.alpha if model.friction else math.inf
+    saturated = math.inf                 # the slip speed above which friction is saturated
+    if model.friction:
+        saturated = 0.0 if model.friction_law == SIGN else 1.0 / model.alpha
     cs, sn = 1.0, 0.0
     if model.points_rotate:
         cs, sn = math.cos(theta), math.sin(theta)
@@ -99,3 +109,25 @@ def chattering_point(model, points, z, watch):
                     return p
                 watch[p, START_SLIP + q] = abs(v)   # decaying: a stable mode; watch the next window
     return -1
+
+
+def unstable_law(scene, integrator: str | None = None) -> str | None:
+    """Why no step size is stable for the scene's law under an explicit integrator (default:
+    the scene's): a bare sign friction or rolling law (see the module docstring). None when
+    some step is, and for implicit Euler, which sticks (integrators.implicit_euler_step)."""
+    method = integrator or scene.integrator
+    ct, why = scene.contact, []
+    if scene.has("friction") and ct.friction_law == "sign":
+        why.append("friction_law 'sign' (bare Coulomb) kicks a contact point's slip by h mu Fn / m_t "
+                   "each step, never to zero")
+    if scene.has("rolling_friction") and ct.roll_law == "sign":
+        why.append("roll_law 'sign' kicks a disk's spin by h mu_roll Fn / I each step, never to zero")
+    if not why or method == "implicit_euler":
+        return None
+    if method == "rk4":
+        what = ("RK4's four stages straddle the jump and cancel, so the motion creeps on at a "
+                "constant speed below half a kick instead of stopping")
+    else:
+        what = "where it should stick the slip flips sign every step for ever: chatter"
+    return (f"{'; '.join(why)}: no step size is stable for {method} ({what}); use a regularised "
+            "law (tanh, ramp, smooth_coulomb) or implicit_euler")

@@ -3,6 +3,9 @@
 E = m (vx^2 + vy^2) / 2 + I omega^2 / 2     kinetic
   + m g y                                  gravitational (0 without gravity)
   + sum over touching points of k d^2 / 2  elastic contact (0 without contact)
+
+The elastic part of every damping law is the spring k d (hunt_crossley's k d (1 - D vc_y) too:
+its damping is the term in vc_y), so one potential serves all of them.
 """
 from __future__ import annotations
 

@@ -2,7 +2,8 @@
 
 Implicit Euler solves G(v1) = v1 - v0 - h a(q0 + h v1, v1) = 0. A contact point j that touches
 down switches its load on at depth d_j = 0, and there the load does not start from zero: the
-damper pushes with c |vc_y| at once (either damping law). So G jumps, by -h f_j with f_j the
+damper pushes with c |vc_y| at once (compression, linear and unclamped laws; hunt_crossley's
+k d (1 - D vc_y) starts from zero and has no jump). So G jumps, by -h f_j with f_j the
 point's acceleration at d_j = 0, across the surface d_j(q0 + h v1) = 0 of velocity space, and
 may jump over zero: no v1 solves G = 0 (Newton then stalls on the jump). The step is then the
 point of the jump that the convex hull of the two sides solves (Filippov's solution):

@@ -1,24 +1,38 @@
 """Forces from the ground, gravity and the applied input, and their analytic Jacobian.
 
 State z = [x, y, theta, vx, vy, omega]; the ground is the line y = 0 with normal (0, 1).
-For a contact point at r from the COM (world frame):
+For a contact point at r from the COM (world frame), in the seed's law:
 
     c  = p + r                      position; depth d = -c_y, touching while d > 0
     vc = v + omega x r = (vx - omega r_y, vy + omega r_x)
     Fn = k d + c max(0, -vc_y)      damping_law "compression" (seed Algorithm 1)
-    Fn = max(0, k d - c vc_y)       damping_law "linear" (Kelvin-Voigt, never pulls)
     Ft = -mu Fn tanh(alpha vc_x)    friction on the slip velocity of the contact point
-    tau += r x F = r_x Fn - r_y Ft  and, rolling resistance, -mu_roll Fn sign(omega)
+    tau += r x F = r_x Fn - r_y Ft  and, rolling resistance, -mu_roll Fn tanh(S omega)
 
-sign(omega) is regularised as tanh(ROLL_SHARPNESS omega), as the sliding law regularises its
-sign: with a bare sign a disk that rolling resistance has stopped flips omega every step and
-creeps (15 um/s measured), and implicit Euler finds no root.
+and the scene's other families (scene_types.laws; docs/contact-laws.md):
 
-Compiling: the functions of scalars (rotation, tanh, normal_force, point_load) are plain
+    Fn = max(0, k d - c vc_y)                   "linear" (Kelvin-Voigt, never pulls)
+    Fn = k d - c vc_y                           "unclamped" (pulls while separating fast)
+    Fn = max(0, k d (1 - dissipation vc_y))     "hunt_crossley" (no damping at d = 0)
+    Ft = -mu Fn clamp(alpha vc_x, -1, 1)        friction "ramp"
+    Ft = -mu Fn vc_x / sqrt(vc_x^2 + 1/alpha^2) friction "smooth_coulomb"
+    Ft = -mu Fn sign(vc_x)                      friction "sign" (bare Coulomb)
+    tau_roll = -mu_roll Fn sign(omega)          roll_law "sign"
+
+Fn enters friction and rolling resistance as it is, negative too (the unclamped law's pull).
+S is the scene's roll_sharpness (s/rad): the tanh regularises the rolling law's sign as alpha
+does the sliding one's (with a bare sign a disk that rolling resistance has stopped flips omega
+every step, and implicit Euler finds no root). Each law is chosen by an integer code of the
+model (model.py), one predictable branch per point: the seed's law is always the first.
+
+Compiling: the functions of scalars (rotation, tanh, normal_force, the laws' signs) are plain
 compiled functions, which LLVM inlines into their callers: numba compiles each once, instead of
 once per call site as with inline="always" (a quarter of the first run's compile). The ones
 that take arrays keep inline="always": a call that passes arrays counts references to them
-(with every function plain, a step took 1.3 to 2.1 times as long).
+(with every function plain, a step took 1.3 to 2.1 times as long). point_load is inlined too:
+with every law's branch it outgrew LLVM's inlining threshold, and a call per point kept those
+reference counts inside RK4's stage loop (a quarter slower). The laws that divide compile with
+error_model="numpy": Python's check of a zero divisor adds a raise to the loop, with the same cost.
 """
 from __future__ import annotations
 
@@ -27,7 +41,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .model import COMPRESSION
+from .model import COMPRESSION, LINEAR, RAMP, ROLL_TANH, SMOOTH_COULOMB, TANH, UNCLAMPED
 
 
 @njit(cache=True, inline="always")
@@ -36,9 +50,6 @@ def no_point():
     constant is compiled again for that constant (numba's literal types), and those copies
     were a tenth of the first run's compile."""
     return np.int64(-1)
-
-
-ROLL_SHARPNESS = 100.0  # s/rad: full rolling resistance above |omega| ~ 0.03 rad/s (v = 3 mm/s at R = 0.1 m)
 
 
 @njit(cache=True)
@@ -66,14 +77,69 @@ def tanh(x):
 
 
 @njit(cache=True)
-def normal_force(model, d, vcy):
-    """Ground normal force (N) at depth d > 0 (m) and normal velocity vcy (m/s)."""
-    if model.damping_law == COMPRESSION:
-        return model.k * d + model.c * max(0.0, -vcy)
-    return max(0.0, model.k * d - model.c * vcy)
+def sign(x):
+    """-1, 0 or 1 as x is negative, zero or positive (sign(0) = 0: no force at exact rest)."""
+    if x > 0.0:
+        return 1.0
+    if x < 0.0:
+        return -1.0
+    return 0.0
 
 
 @njit(cache=True)
+def normal_force(model, d, vcy):
+    """Ground normal force (N) at depth d > 0 (m) and normal velocity vcy (m/s), by damping_law."""
+    law = model.damping_law
+    if law == COMPRESSION:
+        return model.k * d + model.c * max(0.0, -vcy)
+    if law == LINEAR:
+        return max(0.0, model.k * d - model.c * vcy)
+    if law == UNCLAMPED:
+        return model.k * d - model.c * vcy
+    return max(0.0, model.k * d * (1.0 - model.dissipation * vcy))   # HUNT_CROSSLEY
+
+
+@njit(cache=True, error_model="numpy")
+def slip_sign(model, v):
+    """The friction law's smoothed sign s(v) of the slip v (m/s), in [-1, 1]: Ft = -mu Fn s(v)."""
+    law = model.friction_law
+    if law == TANH:
+        return tanh(model.alpha * v)
+    if law == RAMP:
+        return min(1.0, max(-1.0, model.alpha * v))
+    if law == SMOOTH_COULOMB:   # v / sqrt(v^2 + 1/alpha^2), as x / sqrt(1 + x^2) with x = alpha v
+        x = model.alpha * v
+        return x / math.sqrt(1.0 + x * x)
+    return sign(v)              # SIGN
+
+
+@njit(cache=True, error_model="numpy")
+def slip_sign_slope(model, v):
+    """ds/dv (s/m) of slip_sign, the friction law's stiffness per unit mu Fn: alpha at v = 0
+    for the three regularised laws. The ramp takes its saturated side's 0 at |alpha v| = 1
+    exactly; the sign law is flat on both sides of its jump (0), which no derivative spans."""
+    law = model.friction_law
+    x = model.alpha * v
+    if law == TANH:
+        th = tanh(x)
+        return model.alpha * (1.0 - th * th)
+    if law == RAMP:
+        return model.alpha if abs(x) < 1.0 else 0.0
+    if law == SMOOTH_COULOMB:
+        q = 1.0 / (1.0 + x * x)
+        return model.alpha * q * math.sqrt(q)
+    return 0.0                  # SIGN
+
+
+@njit(cache=True)
+def roll_sign(model, om):
+    """The rolling law's smoothed sign of omega (rad/s): tau_roll = -mu_roll Fn roll_sign."""
+    if model.roll_law == ROLL_TANH:
+        return tanh(model.roll_sharpness * om)
+    return sign(om)             # ROLL_SIGN
+
+
+@njit(cache=True, inline="always")
 def point_load(model, rx, ry, d, vx, vy, om):
     """(Ft N, Fn N, rolling torque N m) of one contact point at arm (rx, ry) and depth d (m),
     counted as touching whatever the sign of d (the caller decides: d > 0, or the touchdown
@@ -81,11 +147,30 @@ def point_load(model, rx, ry, d, vx, vy, om):
     fn = normal_force(model, d, vy + om * rx)
     ft = 0.0
     if model.friction:
-        ft = -model.mu * fn * tanh(model.alpha * (vx - om * ry))
+        ft = -model.mu * fn * slip_sign(model, vx - om * ry)
     roll = 0.0
     if model.rolling:
-        roll = model.mu_roll * fn * tanh(ROLL_SHARPNESS * om)
+        roll = model.mu_roll * fn * roll_sign(model, om)
     return ft, fn, roll
+
+
+@njit(cache=True)
+def normal_force_slopes(model, d, vcy):
+    """(dFn/dd N/m, dFn/dvc_y N s/m) of normal_force, on the active branch of its max(): at a
+    kink (the compression damper's vc_y = 0, a clamp at Fn = 0) the branch the strict test picks."""
+    law = model.damping_law
+    if law == COMPRESSION:
+        return model.k, (-model.c if vcy < 0.0 else 0.0)
+    if law == LINEAR:
+        if model.k * d - model.c * vcy > 0.0:
+            return model.k, -model.c
+        return 0.0, 0.0
+    if law == UNCLAMPED:
+        return model.k, -model.c
+    lever = 1.0 - model.dissipation * vcy   # HUNT_CROSSLEY: Fn = k d lever while positive
+    if model.k * d * lever > 0.0:
+        return model.k * lever, -model.k * d * model.dissipation
+    return 0.0, 0.0
 
 
 @njit(cache=True, inline="always")
@@ -153,10 +238,12 @@ def acceleration_jacobian(model, points, z, jac):
 
     Per touching point every force is a function of (d, vc_x, vc_y), so each gradient is a
     combination of the three gradients of add_gradient:
-        dFn  = fn_d grad d + fn_v grad vc_y              (fn_d = k; fn_v = -c while damping acts)
-        dFt  = -mu th dFn - mu Fn alpha (1 - th^2) grad vc_x,   th = tanh(alpha vc_x)
+        dFn  = fn_d grad d + fn_v grad vc_y              (normal_force_slopes)
+        dFt  = -mu s dFn - mu Fn s' grad vc_x,   s = slip_sign(vc_x), s' = slip_sign_slope
         dtau = r_x dFn - r_y dFt + rot (-r_y Fn - r_x Ft) e_theta   (tau = r_x Fn - r_y Ft)
                - mu_roll th_r dFn - mu_roll Fn S (1 - th_r^2) e_omega,  th_r = tanh(S omega)
+    The sign laws' jumps have no derivative: each side's (0) is taken, and implicit Euler's
+    Newton solve stalls at the jump (docs/contact-laws.md says what it lands on).
     """
     loaded_acceleration_jacobian(model, points, z, jac, no_point(), 1.0)
 
@@ -185,22 +272,20 @@ def loaded_acceleration_jacobian(model, points, z, jac, held, share_held):
         share = share_held if i == held else 1.0
         vcx, vcy = vx - om * ry, vy + om * rx
         fn = normal_force(model, d, vcy)
-        # dFn = fn_d grad d + fn_v grad vc_y, on the active branch of max()
-        fn_d, fn_v = model.k, 0.0
-        if model.damping_law == COMPRESSION:
-            if vcy < 0.0:
-                fn_v = -model.c
-        elif model.k * d - model.c * vcy > 0.0:
-            fn_v = -model.c
-        else:
-            fn_d = 0.0
+        fn_d, fn_v = normal_force_slopes(model, d, vcy)
         # dFt = ft_n dFn + ft_x grad vc_x
         ft, ft_n, ft_x = 0.0, 0.0, 0.0
         if model.friction:
-            th = tanh(model.alpha * vcx)
-            ft = -model.mu * fn * th
-            ft_n = -model.mu * th
-            ft_x = -model.mu * fn * model.alpha * (1.0 - th * th)
+            if model.friction_law == TANH:   # the seed's, written out: s' = alpha (1 - th^2)
+                th = tanh(model.alpha * vcx)
+                ft = -model.mu * fn * th
+                ft_n = -model.mu * th
+                ft_x = -model.mu * fn * model.alpha * (1.0 - th * th)
+            else:
+                s = slip_sign(model, vcx)
+                ft = -model.mu * fn * s
+                ft_n = -model.mu * s
+                ft_x = -model.mu * fn * slip_sign_slope(model, vcx)
         # Fn and Ft on (grad d, grad vc_x, grad vc_y)
         n_d, n_x, n_y = fn_d, 0.0, fn_v
         t_d, t_x, t_y = ft_n * fn_d, ft_x, ft_n * fn_v
@@ -209,9 +294,11 @@ def loaded_acceleration_jacobian(model, points, z, jac, held, share_held):
         # tau: r_x Fn - r_y Ft (- mu_roll th_r Fn), and the lever arms' own turn with theta
         lever_n = rx
         if model.rolling:
-            th_r = tanh(ROLL_SHARPNESS * om)
+            th_r = roll_sign(model, om)
             lever_n -= model.mu_roll * th_r
-            jac[2, 5] -= model.mu_roll * fn * ROLL_SHARPNESS * (1.0 - th_r * th_r) * model.inv_inertia * share
+            if model.roll_law == ROLL_TANH:   # the sign law is flat on both sides of omega = 0
+                jac[2, 5] -= (model.mu_roll * fn * model.roll_sharpness * (1.0 - th_r * th_r)
+                              * model.inv_inertia * share)
         add_gradient(jac[2], share * model.inv_inertia, lever_n * n_d - ry * t_d, lever_n * n_x - ry * t_x,
                      lever_n * n_y - ry * t_y, rx, ry, om, rot)
         jac[2, 2] += rot * (-ry * fn - rx * ft) * model.inv_inertia * share

@@ -86,9 +86,15 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
     """Solve G(v1) = v1 - v0 - h a(q0 + h v1, v1) = 0 by damped Newton, started from the
     semi-implicit Euler predictor: dv = -(dG/dv1)^-1 G with dG/dv1 = I - h (h da/dq + da/dv),
     then v1 += t dv with t = 1, 1/2, 1/4, ... until max |G| falls (Armijo). Plain Newton
-    (t = 1 always) cycles where G has kinks: the contact switch, max(0, -vc_y) and the
-    tanh of a sharp friction law. Converged: a step below NEWTON_TOL with max |G| below
-    RESIDUAL_TOL.
+    (t = 1 always) cycles where G has kinks: the contact switch, max(0, -vc_y), the tanh of a
+    sharp friction law and the ramp's corners. Converged: a step below NEWTON_TOL with max |G|
+    below RESIDUAL_TOL.
+
+    A bare sign law (friction or rolling) jumps by 2 h mu Fn / m at zero slip: where the step
+    should stick, G has no root there either. Its Jacobian is 0 on both sides, the line search
+    closes in on the jump, and the step ends near zero slip (a stick, the set-valued law's
+    answer: 2e-7 m/s on a box at h = 1e-3 s) after NEWTON_MAX_ITERATIONS (some 500 force
+    evaluations), counted as not converged.
 
     Where G jumps over zero (a damper that engages with force c |vc_y| at touchdown) no root
     exists, and the line search stalls on the jump (no t with t |dv| > NEWTON_TOL lowers |G|).

@@ -50,8 +50,7 @@ class SimulationDiverged(RuntimeError):
         self.scene, self.integrator, self.dt, self.step, self.state = scene, integrator, dt, step, state
         self.stable_dt = stable_step(scene, integrator)
         super().__init__(f"{scene.name}: {integrator} {self.what()} at step {step} (t = {step * dt:.6g} s) "
-                         f"with dt = {dt:g} s; state {state_text(state)}. Theory gives a stable step "
-                         f"below {self.stable_dt:.3g} s for this scene (see custom_sim/stability.py).")
+                         f"with dt = {dt:g} s; state {state_text(state)}. {advice(self.stable_dt)}")
 
     def what(self) -> str:
         return "diverged"
@@ -69,6 +68,15 @@ class SimulationChattered(SimulationDiverged):
 
     def what(self) -> str:
         return f"chattered (contact point {self.point}: its {self.quantity} flips sign every step)"
+
+
+def advice(stable_dt) -> str:
+    """The sentence that says which step to take instead: theory's stable step, or, where it is
+    0 for the law (a bare sign law under an explicit method), that no step is (its reason)."""
+    if stable_dt == 0.0 and "no step size is stable" in stable_dt.reason:
+        return f"No step size is stable for this law: {stable_dt.reason} (see docs/contact-laws.md)."
+    return (f"Theory gives a stable step below {stable_dt:.3g} s for this scene "
+            f"(see custom_sim/stability.py).")
 
 
 def state_text(state) -> str:

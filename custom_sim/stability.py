@@ -1,7 +1,7 @@
 """The largest stable step by theory, effect by effect: which effect a step violates.
 
     limits(scene, integrator) -> {"contact": h, "friction": h, "rolling_friction": h}   (s; inf: none)
-    stable_step(scene, integrator) = min(limits)
+    stable_step(scene, integrator) = min(limits), a float with .reason (what sets it; why 0)
     limit_modes(scene, integrator) -> every mode's limit, each with what sets it
 
 "Stable" means what custom_sim/chatter.py defines: no blow-up and no chatter. Each effect
@@ -20,6 +20,17 @@ J = [1, r_x], M = diag(m, I). The damper is c / k times K, so each mode has zeta
                        (the per-bounce energy balance below gives the same, to first order)
       semi-implicit    Jury test on the 2 x 2 map: h w < 2 (sqrt(1 + zeta^2) - zeta)
       RK4              |R(h lambda)| < 1, R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24, solved numerically
+  unclamped law (damps both ways, may pull): the same linear oscillator, without the clamp
+  hunt_crossley law (Fn = k d (1 - D vc_y), D the dissipation): linearised at depth d its
+    damper is k d D (N s/m), zeta = d D w / 2, growing with the depth. At the impact's peak
+    depth (the deepest, most damped) and, with gravity, at the lightest resting depth:
+      semi-implicit,   the linear oscillator's limit at both depths; more damping lowers these
+      RK4              limits, so the peak binds
+      explicit Euler   damping is what makes it stable: the linear limit at the resting depth,
+                       h < d_rest D, and the energy balance of the compression law's below,
+                       h w < 2 int(P) / int(a^2 + v^2), with the damper's power P = D w x x'^2
+                       along the exact motion of the hardest impact (speed v_n) sagging under
+                       gravity to the resting depth (at v_n = 0 it gives h < d_rest D again)
   compression law (damps only while a point moves into the ground): the map switches between
     A_d (damped) and A_u (undamped) by the sign of vc_y at the step's start
       explicit Euler   grows by 1 + (w h)^2 per step undamped: only a cycle's energy balance
@@ -35,7 +46,8 @@ J = [1, r_x], M = diag(m, I). The damper is c / k times K, so each mode has zeta
                        rho(A_u) <= 1 (solved numerically on the exact maps). Semi-implicit Euler
                        then lands on the Jury limit with zeta / 2: h w < 2 (sqrt(1 + zeta^2/4) - zeta/2)
 
-Friction (tanh law). Its rate is lambda_f = mu alpha Fn / m_t (1/s), m_t the smallest
+Friction (tanh law; the ramp and smooth_coulomb laws have the same slope mu Fn alpha at zero
+slip, so the same rate). Its rate is lambda_f = mu alpha Fn / m_t (1/s), m_t the smallest
 tangential effective mass (1/m_t = 1/m + r_y^2 / I at the angles where the point is lowest),
 at the largest load Fn a point carries: at rest m g (the whole weight on one point), at an
 impact the peak of k d + c max(0, -vc_y) for the impact speed v_n at the smallest normal
@@ -47,7 +59,12 @@ face without the energy to lift its COM over the corner) minus the horizontal ki
 for a body that could trip over its own slide), and minus the spin's I omega^2 / 2 for a disk
 or a point (whose contact normal passes through the COM: no lever turns spin into a push). Then h lambda_f < 2 (both Euler methods:
 |1 - h lambda| < 1) and < 2.785 (RK4 on the negative real axis). Rolling resistance
-(mu_roll Fn tanh(ROLL_SHARPNESS omega)): lambda_r = mu_roll ROLL_SHARPNESS Fn / I, same bounds.
+(mu_roll Fn tanh(S omega), S the scene's roll_sharpness): lambda_r = mu_roll S Fn / I, same bounds.
+The impact's load profile follows the damping law (unclamped as linear; hunt_crossley its own).
+
+A bare sign law (friction or rolling) is an infinite rate at zero slip: no step is stable for
+an explicit method once a point should stick (both Euler methods chatter, RK4 creeps:
+chatter.unstable_law): its limit is 0, and stable_step's reason says why.
 
 Implicit Euler's map (1 - h J)^-1 is contractive for every h: no limit.
 """
@@ -59,14 +76,25 @@ import math
 import numpy as np
 
 from .bodies import mass_properties
-from .chatter import CHATTER_STEPS
-from .forces import ROLL_SHARPNESS
+from .chatter import CHATTER_STEPS, unstable_law
 from scene_types.schema import Scene
 
 RK4_REAL_LIMIT = 2.785      # h |lambda| on the negative real axis: R(-2.785) = 1
 EULER_REAL_LIMIT = 2.0      # |1 - h lambda| < 1
 ANGLE_SAMPLES = 3600        # angles at which the lowest point is found (0.1 degree apart)
 RHO_TOLERANCE = 1e-12       # an undamped symplectic map has rho = 1 to round-off: not growth
+
+
+class StableStep(float):
+    """A stable step (s), usable as the float it is, with `reason`: the mode that sets it
+    (limit_modes' name), why no step is stable when it is 0, or "" when nothing limits it."""
+
+    reason: str
+
+    def __new__(cls, h: float, reason: str = ""):
+        step = super().__new__(cls, h)
+        step.reason = reason
+        return step
 
 
 # ---------------------------------------------------------------------------------------
@@ -76,8 +104,8 @@ RHO_TOLERANCE = 1e-12       # an undamped symplectic map has rho = 1 to round-of
 @functools.lru_cache(maxsize=64)
 def _configurations(body) -> dict:
     """Normal modes w^2 / k (1/kg) of the body on its lowest point(s), the smallest normal and
-    tangential effective masses (kg) at a lowest point, and the COM's least height above its
-    lowest point (m)."""
+    tangential effective masses (kg) at a lowest point, how many support edges (two points
+    level and lowest) it has, and the COM's least height above its lowest point (m)."""
     props = mass_properties(body)
     m, inertia, pts = props.mass, props.inertia, props.points
     inv_i = 1.0 / inertia if props.rotates else 0.0
@@ -107,13 +135,16 @@ def _configurations(body) -> dict:
                 stiff = sum(np.outer((1.0, x), (1.0, x)) for x in xs)
                 modes.append(float(np.max(np.linalg.eigvals(np.diag((1.0 / m, inv_i)) @ stiff).real)))
     return {"modes": modes, "max_mode": float(max(modes)), "m_n": float(m_n.min()), "m_t": float(m_t.min()),
+            "support_edges": len(modes) - len(th),
             "clearance": float(np.min(-ry_low)), "mass": m, "inertia": inertia,
             "support": -ry_low, "angles": th,
             "turns_normal": bool(props.points_rotate)}
 
 
 def contact_frequency(scene: Scene) -> tuple[float, float]:
-    """(w rad/s, zeta) of the stiffest contact mode, or (0, 0) without contact."""
+    """(w rad/s, zeta) of the stiffest contact mode, or (0, 0) without contact; zeta of the
+    viscous damper c (0 under hunt_crossley, whose damping grows with the depth:
+    hunt_crossley_limit)."""
     if not scene.has("contact"):
         return 0.0, 0.0
     w = math.sqrt(scene.contact.k * _configurations(scene.body)["max_mode"])
@@ -177,21 +208,31 @@ def normal_energy(scene: Scene) -> float:
 PROFILE_STEP = 1e-4         # of the unit oscillator's time w t: the profile to 1e-4 of a period
 
 
+def unit_load(x: float, v: float, damping: float, law: str) -> float:
+    """The normal load of the unit oscillator (depth x, rate x' = v into the ground), unclamped:
+    x + 2 zeta x' (linear, unclamped), x + 2 zeta max(0, x') (compression), or
+    x (1 + beta x') (hunt_crossley); damping is zeta, or beta = dissipation v_n."""
+    if law == "hunt_crossley":
+        return x * (1.0 + damping * v)
+    if law == "compression" and v <= 0.0:
+        return x
+    return x + 2.0 * damping * v
+
+
 @functools.lru_cache(maxsize=256)
-def load_profile(zeta: float, law: str) -> np.ndarray:
-    """The normal load of an impact, x + 2 zeta x' (linear law, clamped at 0) or
-    x + 2 zeta max(0, x') (compression law), along the unit oscillator x'' = -x - 2 zeta x' s
-    from touchdown (x = 0, x' = 1) to leaving, sampled every PROFILE_STEP of w t. In units
-    of v_n sqrt(k m_n)."""
+def load_profile(damping: float, law: str) -> np.ndarray:
+    """The normal load of an impact, unit_load clamped at 0, along the unit oscillator
+    x'' = -load from touchdown (x = 0, x' = 1) to leaving, sampled every PROFILE_STEP of w t.
+    In units of v_n sqrt(k m_n). The unclamped law is taken as the linear one: its pull after
+    the clamp's release is what no load bound needs."""
     h = PROFILE_STEP
     x, v, out = 0.0, 1.0, []
     while len(out) < 10 ** 6:
-        damped = law == "linear" or v > 0.0
-        f = x + 2.0 * zeta * v if damped else x
-        if f <= 0.0 and out:
+        f = unit_load(x, v, damping, law)
+        if f <= 0.0 and out and (x <= 0.0 or law != "hunt_crossley"):
             break
         out.append(max(f, 0.0))
-        a = -x - (2.0 * zeta * v if damped else 0.0)
+        a = -max(f, 0.0)
         x, v = x + h * v + 0.5 * h * h * a, v + h * a     # Taylor step, error O(h^3) per step
     return np.array(out)
 
@@ -201,21 +242,36 @@ def peak_factor(zeta: float, law: str = "compression") -> float:
     return float(load_profile(zeta, law).max())
 
 
+@functools.lru_cache(maxsize=256)
+def peak_depth(damping: float, law: str) -> float:
+    """The deepest x of the unit impact of load_profile (in units of v_n / w)."""
+    h, x, v = PROFILE_STEP, 0.0, 1.0
+    while v > 0.0:
+        a = -max(unit_load(x, v, damping, law), 0.0)
+        x, v = x + h * v + 0.5 * h * h * a, v + h * a
+    return x
+
+
 def impact(scene: Scene) -> dict:
     """The hardest impact energy allows: all of E_n into one point at the smallest normal
     effective mass m_n, v_n = sqrt(2 E_n / m_n). Peak normal load Fn (N) = v_n sqrt(k m_n)
-    f(zeta_n) + m g = sqrt(2 k E_n) f(zeta_n) + m g, zeta_n = c / (2 sqrt(k m_n)); the load
-    profile (N, every PROFILE_STEP / w_n s) and w_n (rad/s)."""
+    f(zeta_n) + m g = sqrt(2 k E_n) f(zeta_n) + m g, zeta_n = c / (2 sqrt(k m_n)) (under
+    hunt_crossley f is the peak of its own profile, at beta = dissipation v_n); the load
+    profile (N, every PROFILE_STEP / w_n s), w_n (rad/s), v_n (m/s) and the peak depth (m,
+    with the resting sag m g / k)."""
     return _impact(scene.body, normal_energy(scene), _gravity(scene), scene.contact)
 
 
 @functools.lru_cache(maxsize=256)
 def _impact(body, e_n: float, g: float, contact) -> dict:
     cfg = _configurations(body)
-    k, c, m_n = contact.k, contact.c, cfg["m_n"]
-    zeta_n = c / (2.0 * math.sqrt(k * m_n))
-    profile = math.sqrt(2.0 * k * e_n) * load_profile(zeta_n, contact.damping_law) + cfg["mass"] * g
-    return {"peak": float(profile.max()), "profile": profile, "w_n": math.sqrt(k / m_n)}
+    k, m_n = contact.k, cfg["m_n"]
+    w_n, v_n = math.sqrt(k / m_n), math.sqrt(2.0 * e_n / m_n)
+    damping = (contact.dissipation * v_n if contact.damping_law == "hunt_crossley"
+               else contact.c / (2.0 * math.sqrt(k * m_n)))
+    profile = math.sqrt(2.0 * k * e_n) * load_profile(damping, contact.damping_law) + cfg["mass"] * g
+    depth = peak_depth(damping, contact.damping_law) * v_n / w_n + cfg["mass"] * g / k
+    return {"peak": float(profile.max()), "profile": profile, "w_n": w_n, "v_n": v_n, "depth": depth}
 
 
 def peak_load(scene: Scene) -> float:
@@ -243,21 +299,33 @@ def held_impact_limit(scene: Scene, bound: float, rate_per_newton: float) -> flo
     return math.inf
 
 
+def friction_slope(contact) -> float:
+    """The friction law's slope at zero slip per unit mu Fn (s/m): alpha for tanh, ramp and
+    smooth_coulomb; inf for the bare sign."""
+    return math.inf if contact.friction_law == "sign" else contact.alpha
+
+
+def roll_slope(contact) -> float:
+    """The rolling law's slope at omega = 0 per unit mu_roll Fn (s/rad): roll_sharpness; inf for sign."""
+    return math.inf if contact.roll_law == "sign" else contact.roll_sharpness
+
+
 def friction_rate(scene: Scene, load: float | None = None) -> float:
     """lambda_f = mu Fn alpha / m_t (1/s) at the load Fn (N; default: the impact's peak), m_t
-    the smallest tangential effective mass at a lowest point."""
+    the smallest tangential effective mass at a lowest point (alpha: friction_slope)."""
     if not scene.has("friction"):
         return 0.0
     load = impact(scene)["peak"] if load is None else load
-    return scene.contact.mu * load * scene.contact.alpha / _configurations(scene.body)["m_t"]
+    return scene.contact.mu * load * friction_slope(scene.contact) / _configurations(scene.body)["m_t"]
 
 
 def rolling_rate(scene: Scene, load: float | None = None) -> float:
-    """lambda_r = mu_roll ROLL_SHARPNESS Fn / I (1/s) at the load Fn (N; default: the impact's peak)."""
+    """lambda_r = mu_roll S Fn / I (1/s) at the load Fn (N; default: the impact's peak), S the
+    scene's roll_sharpness (roll_slope)."""
     if not scene.has("rolling_friction"):
         return 0.0
     fn = impact(scene)["peak"] if load is None else load
-    return scene.contact.mu_roll * ROLL_SHARPNESS * fn / _configurations(scene.body)["inertia"]
+    return scene.contact.mu_roll * roll_slope(scene.contact) * fn / _configurations(scene.body)["inertia"]
 
 
 
@@ -345,6 +413,60 @@ def energy_balance_limit(zeta: float, motion: str) -> float:
     return 4.0 * zeta * damped_v2 / total
 
 
+@functools.lru_cache(maxsize=256)
+def hunt_crossley_energy_limit(dw: float, speed: float, sag: float) -> float:
+    """Explicit Euler, hunt_crossley law: hw < 2 int(P) / int(a^2 + v^2) along the exact motion
+    of the mode, in time w t: x'' = a = sag - max(0, x (1 + dw x')), from touchdown (x = 0,
+    x' = speed) until it leaves or has made one full cycle. x, sag (the resting depth) and
+    speed (the impact speed / w) in m, dw = dissipation w (1/m). P = dw x x'^2 is the rate the
+    damper takes the energy E = x'^2 + (x - sag)^2 away; explicit Euler changes E by
+    -2 hw P + (hw)^2 (a^2 + x'^2) a step. inf when nothing moves (no speed, no sag)."""
+    if speed <= 0.0 and sag <= 0.0:
+        return math.inf
+    h = 1e-4
+    x, v = 0.0, speed
+    dissipated = total = 0.0
+    turns = 0
+    for _ in range(10 ** 6):   # a cycle lasts about 2 pi
+        a = sag - max(0.0, x * (1.0 + dw * v))
+        dissipated += -v * (a + x - sag) * h
+        total += (a * a + v * v) * h
+        x_new, v_new = x + h * v + 0.5 * h * h * a, v + h * a
+        if v > 0.0 >= v_new or v < 0.0 <= v_new:
+            turns += 1
+        x, v = x_new, v_new
+        if x < 0.0 or turns >= 2:
+            break
+    return 2.0 * dissipated / total if dissipated > 0.0 else 0.0
+
+
+def resting_depth(scene: Scene) -> float:
+    """The lightest resting depth of a point (m): the weight shared by a support edge's two
+    points where the body has one, else the whole weight, over k; 0 without gravity."""
+    cfg = _configurations(scene.body)
+    share = 2.0 if cfg["support_edges"] else 1.0
+    return cfg["mass"] * _gravity(scene) / (share * scene.contact.k)
+
+
+def hunt_crossley_limit(scene: Scene, method: str, w: float) -> dict[str, float]:
+    """hunt_crossley's contact limits (s) for the mode w (rad/s): the linear oscillator's with
+    the damper k d D linearised at the impact's peak depth and at the resting depth, and for
+    explicit Euler the energy balance of the hardest impact (module docstring)."""
+    dissipation = scene.contact.dissipation
+    hit = impact(scene)
+    rest = resting_depth(scene)
+    depths = {"impact peak": hit["depth"]}
+    if rest > 0.0:
+        depths["rest"] = rest
+    out = {}
+    for where, d in depths.items():
+        out[f"contact (hunt_crossley damper at the {where} depth)"] = linear_limit(method, d * dissipation * w / 2.0) / w
+    if method == "explicit_euler":
+        out["contact (hunt_crossley impact energy balance)"] = hunt_crossley_energy_limit(
+            dissipation * w, hit["v_n"] / w, rest) / w
+    return out
+
+
 def contact_limit(scene: Scene, method: str) -> dict[str, float]:
     """The contact modes' limits (s), by mode."""
     if not scene.has("contact") or method == "implicit_euler":
@@ -354,7 +476,9 @@ def contact_limit(scene: Scene, method: str) -> dict[str, float]:
     for inv_m in (_configurations(scene.body)["max_mode"],):
         w = math.sqrt(k * inv_m)
         zeta = c * w / (2.0 * k)
-        if scene.contact.damping_law == "linear":
+        if scene.contact.damping_law == "hunt_crossley":
+            out.update(hunt_crossley_limit(scene, method, w))
+        elif scene.contact.damping_law in ("linear", "unclamped"):
             out["contact (linear oscillator)"] = linear_limit(method, zeta) / w
         elif method == "explicit_euler":
             out["contact (bounce energy balance)"] = energy_balance_limit(zeta, "bounce") / w
@@ -373,15 +497,19 @@ def limit_modes(scene: Scene, integrator: str | None = None) -> dict[str, float]
     bound = RK4_REAL_LIMIT if method == "rk4" else EULER_REAL_LIMIT
     cfg = _configurations(scene.body)
     rest = cfg["mass"] * _gravity(scene)
-    if scene.has("friction"):
-        per_newton = scene.contact.mu * scene.contact.alpha
+    if scene.has("friction") and scene.contact.friction_law == "sign":
+        out["friction (sign law: no step is stable)"] = 0.0
+    elif scene.has("friction"):
+        per_newton = scene.contact.mu * friction_slope(scene.contact)
         if rest * per_newton > 0.0:
             out["friction (at rest)"] = bound * cfg["m_t"] / (per_newton * rest)
         if per_newton > 0.0:
             out[f"friction (at the impact, held {CHATTER_STEPS} steps)"] = held_impact_limit(
                 scene, bound, per_newton / cfg["m_t"])
-    if scene.has("rolling_friction"):
-        per_newton = scene.contact.mu_roll * ROLL_SHARPNESS / cfg["inertia"]
+    if scene.has("rolling_friction") and scene.contact.roll_law == "sign":
+        out["rolling_friction (sign law: no step is stable)"] = 0.0
+    elif scene.has("rolling_friction"):
+        per_newton = scene.contact.mu_roll * roll_slope(scene.contact) / cfg["inertia"]
         if rest * per_newton > 0.0:
             out["rolling_friction (at rest)"] = bound / (per_newton * rest)
         if per_newton > 0.0:
@@ -401,9 +529,16 @@ def limits(scene: Scene, integrator: str | None = None) -> dict[str, float]:
     return out
 
 
-def stable_step(scene: Scene, integrator: str | None = None) -> float:
-    """Largest stable step (s) by the theory above; inf when nothing limits it."""
-    return min(limits(scene, integrator).values(), default=math.inf)
+def stable_step(scene: Scene, integrator: str | None = None) -> StableStep:
+    """Largest stable step (s) by the theory above; inf when nothing limits it. Its .reason
+    names the mode that sets it, or, when it is 0 under a bare sign law, why no step is."""
+    modes = {m: h for m, h in limit_modes(scene, integrator).items() if math.isfinite(h)}
+    if not modes:
+        return StableStep(math.inf)
+    mode = min(modes, key=modes.get)
+    h = modes[mode]
+    reason = unstable_law(scene, integrator) if h == 0.0 and "sign law" in mode else mode
+    return StableStep(h, reason or mode)
 
 
 def violated(scene: Scene, integrator: str | None = None) -> dict[str, float]:
@@ -425,6 +560,9 @@ def warning(scene: Scene, integrator: str | None = None) -> str | None:
     if not bad:
         return None
     method = integrator or scene.integrator
+    never = unstable_law(scene, method)
+    if never and stable_step(scene, method) == 0.0:
+        return f"{scene.name}: {never} (see docs/contact-laws.md)"
     parts = ", ".join(f"{e} needs dt < {h:.3g} s" for e, h in sorted(bad.items(), key=lambda kv: kv[1]))
     return (f"{scene.name}: dt = {scene.dt:g} s is outside the stability limit of {method} "
             f"({parts}; see docs/stability.md): expect chatter or a blow-up")

@@ -6,7 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from custom_sim.forces import ROLL_SHARPNESS
+from compare.game.ball import ball_scene
+
 
 from compare.game.ball import ALPHA, MASS, MU, MU_ROLL, RADIUS
 from compare.game.engines import make_engine
@@ -118,7 +119,7 @@ def test_a_gentle_push_rolls_the_ball():
     # The discrete slip update has the continuous steady state as its fixed point and relaxes
     # towards it by a factor 1 - h 3 mu g alpha (1 - tanh^2) = 0.58 a step: settled to round-off.
     assert vx + om * RADIUS == pytest.approx(slip, rel=1e-9), "slip settled at the tanh law's value"
-    ramp = 2 * h + (3.0 / ROLL_SHARPNESS) / (a / RADIUS)
+    ramp = 2 * h + (3.0 / ball_scene().contact.roll_sharpness) / (a / RADIUS)
     missing = resistance * (ramp + (1.0 - math.tanh(3.0)) * t) / (1.5 * MASS)  # m/s, at most
     rolled = vx - (vx + om * RADIUS) / 3     # = (F t - resistance t_roll) / (1.5 m)
     assert a * t - ROUNDOFF <= rolled <= a * t + missing, "rolling identity"

@@ -94,6 +94,8 @@ class Run:
     repeats: int = 0
     cpu_time_spread: float = math.nan    # s, max - min of the repeats' CPU times: the noise
     force_evals: int = 0
+    residual_end: float = math.nan       # J: the energy balance's R(end) = E(end) - E(0) + W (compare/energy)
+    residual_max: float = math.nan       # J: max |R| over the run
     states: np.ndarray | None = field(default=None, repr=False)   # (K+1, 6) on the grid
 
     def as_dict(self) -> dict:
@@ -172,11 +174,36 @@ def custom_wall(scene: Scene, integrator: str, dt: float):
     return run
 
 
+def custom_residual(scene: Scene, integrator: str, dt: float) -> tuple[float, float]:
+    """(R(end), max |R|) J of our run at (integrator, dt): the energy the numerics made or lost."""
+    from custom_sim import simulate
+
+    from ..energy import balance
+    sc = dataclasses.replace(scene, integrator=integrator, dt=dt)
+    try:
+        traj = simulate(sc)
+    except SimulationDiverged:   # chatter the grid run does not watch: no balance to show
+        return math.nan, math.nan
+    r = balance(sc, traj.t, traj.states(), integrator).R
+    return float(r[-1]), float(np.max(np.abs(r)))
+
+
+def mujoco_residual(scene: Scene, integrator: str, dt: float) -> tuple[float, float]:
+    """(R(end), max |R|) J of MuJoCo's native run at (integrator, dt), from its states."""
+    from mujoco_models import simulate_mujoco
+
+    from ..energy.mujoco_side import native_from_run
+    traj = simulate_mujoco(scene, integrator=integrator, dt=dt)
+    r = native_from_run(scene, traj.t, traj.states(), traj.integrator, traj.meta.get("solref_mapping", "penalty")).R
+    return float(r[-1]), float(np.max(np.abs(r)))
+
+
 def ladder_runs(simulator: str, scene: Scene, integrator: str, ref_states: np.ndarray, scale: float,
                 ladder, grid_run, wall, diverged) -> list[Run]:
     """One integrator over a ladder of steps (steps per grid interval), coarse to fine, until a
     run would exceed RUN_BUDGET: grid_run gives (states on the grid, force evaluations, ...),
-    wall the timed run, `diverged` the exception of a blown-up run."""
+    wall the timed run, `diverged` the exception of a blown-up run; each stable run's energy
+    residual beside its error."""
     runs, last_time, dt_prev = [], None, None
     for n in ladder:
         dt = GRID / n
@@ -195,6 +222,8 @@ def ladder_runs(simulator: str, scene: Scene, integrator: str, ref_states: np.nd
         if run.stable:
             run.error_max, run.error_l2, run.angle_error_max = position_errors(states, ref_states)
             run.cpu_time, run.wall_time, run.repeats, run.cpu_time_spread = timed(wall(scene, integrator, dt))
+            residual = custom_residual if simulator == "custom" else mujoco_residual
+            run.residual_end, run.residual_max = residual(scene, integrator, dt)
             last_time = run.wall_time
             run.states = states
         runs.append(run)

@@ -261,6 +261,65 @@ def cheapest_table(results, command: str = "python -m compare sweep") -> str:
 # Plot
 
 
+# The order of each integrator's energy residual R(end) as dt shrinks, away from contact events
+# (docs/energy-balance.md): the order of its error
+EXPECTED_ORDER = {"explicit_euler": 1, "semi_implicit_euler": 1, "implicit_euler": 1, "rk4": 4,
+                  "Euler": 1, "implicit": 1, "implicitfast": 1, "RK4": 4}
+ORDER_SLACK = 0.3   # a fitted slope this far below the order means something lowers it
+
+
+def residual_order(runs) -> float:
+    """The slope of log |R(end)| against log dt over the stable runs (nan with fewer than two)."""
+    pts = [(r.dt, abs(r.residual_end)) for r in runs
+           if r.stable and math.isfinite(r.residual_end) and r.residual_end != 0.0]
+    if len(pts) < 2:
+        return math.nan
+    import numpy as np
+    dts, rs = np.log([p[0] for p in pts]), np.log([p[1] for p in pts])
+    return float(np.polyfit(dts, rs, 1)[0])
+
+
+def residual_panel(ax, sweep) -> None:
+    """|R(end)| against dt for each integrator: the energy its numerics made or lost."""
+    for sim, integ in dict.fromkeys((r.simulator, r.integrator) for r in sweep.runs):
+        pts = [(r.dt, abs(r.residual_end)) for r in sweep.of(sim, integ)
+               if r.stable and math.isfinite(r.residual_end) and r.residual_end != 0.0]
+        if pts:
+            xs, ys = zip(*pts)
+            label = f"{'ours' if sim == 'custom' else 'MuJoCo'}: {LABELS.get(integ, integ)} " \
+                    f"(order {residual_order(sweep.of(sim, integ)):.2f})"
+            ax.plot(xs, ys, marker="o" if sim == "custom" else "s", linestyle="-" if sim == "custom" else "--",
+                    color=COLORS.get(integ), markersize=4, label=label)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("step dt (s)")
+    ax.set_ylabel("|R(end)| = |E(end) - E(0) + W| (J)")
+    ax.set_title("energy the numerics made or lost (work-energy balance)", fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="lower right")
+
+
+def residual_rows(sweep) -> list[str]:
+    """Per integrator: R(end) at each dt, its measured order against the expected one, and
+    the contact events when they lower it."""
+    switches = ", ".join(f"{v} {k}" for k, v in sweep.reference["switches"].items() if v)
+    lines = ["| simulator | integrator | R(end) at each dt (J) | measured order | expected | note |",
+             "|---|---|---|---|---|---|"]
+    for sim, integ in dict.fromkeys((r.simulator, r.integrator) for r in sweep.runs):
+        runs = sweep.of(sim, integ)
+        order, expected = residual_order(runs), EXPECTED_ORDER.get(integ)
+        values = ", ".join(f"{r.residual_end:.2g} ({r.dt:g} s)" for r in runs
+                           if r.stable and math.isfinite(r.residual_end))
+        note = ""
+        if math.isfinite(order) and expected and order < expected - ORDER_SLACK:
+            note = (f"lowered by the contact events ({switches} switches of the reference): a step across a switch "
+                    "integrates the force's jump or kink at first or second order" if switches else
+                    "lower than expected without a contact event")
+        lines.append(f"| {'ours' if sim == 'custom' else 'MuJoCo'} | {integ} | {values or '–'} | {_fmt(order, '.2f')} "
+                     f"| {expected or '–'} | {note} |")
+    return lines + [""]
+
+
 def plot_scene(sweep, path: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
@@ -268,7 +327,10 @@ def plot_scene(sweep, path: Path) -> None:
 
     from ..accuracy.workprecision import TARGET_ERROR
 
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5.2), sharey=True)
+    fig = plt.figure(figsize=(19, 5.2))
+    first = fig.add_subplot(1, 3, 1)
+    axes = [first, fig.add_subplot(1, 3, 2, sharey=first)]
+    residual_panel(fig.add_subplot(1, 3, 3), sweep)
     panels = (("numerical error: ours vs reference, MuJoCo vs its own converged solution", True),
               ("against our reference (MuJoCo: numerical error + model difference)", False))
     integrators = []
@@ -452,13 +514,16 @@ def scene_section(sweep) -> list[str]:
                      f"{conv['change_at_double_step']:.2g} m when the step doubles, and lies "
                      f"{conv['error_max']:.3g} m (max; RMS {conv['error_l2']:.3g} m) from our reference: "
                      f"the model difference.")
+    lines += ["", "**Energy the numerics made or lost** (R(end) = E(end) - E(0) + W, docs/energy-balance.md):", "",
+              *residual_rows(sweep)]
     lines += ["", f"**Cheapest way to 1 mm:** {answer(sweep)}", "",
               "| simulator | integrator | dt (s) | max error (m) | RMS error (m) | max angle error (rad) | "
-              "MuJoCo vs own converged, max (m) | CPU time (s) | wall time (s) | force evaluations | note |",
-              "|---|---|---|---|---|---|---|---|---|---|---|"]
+              "MuJoCo vs own converged, max (m) | R(end) (J) | CPU time (s) | wall time (s) | force evaluations | note |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in sweep.runs:
         lines.append(f"| {r.simulator} | {r.integrator} | {r.dt:g} | {_fmt(r.error_max)} | {_fmt(r.error_l2)} | "
-                     f"{_fmt(r.angle_error_max)} | {_fmt(r.error_max_self)} | {_fmt(r.cpu_time)} | {_fmt(r.wall_time)} | "
+                     f"{_fmt(r.angle_error_max)} | {_fmt(r.error_max_self)} | {_fmt(r.residual_end)} | "
+                     f"{_fmt(r.cpu_time)} | {_fmt(r.wall_time)} | "
                      f"{r.force_evals} | {'' if r.stable else 'unstable: ' + r.note} |")
     lines.append("")
     return lines

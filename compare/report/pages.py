@@ -94,6 +94,14 @@ def checks_table(result: Result) -> list[str]:
     return lines
 
 
+def stability_words(data: dict, integrator: str) -> str:
+    """The theory's stable step for the scene's integrator, or why no step is stable."""
+    limit = data["stable_dt_theory"]
+    if limit == 0.0:
+        return f"no step is stable for {integrator}: {data.get('stable_dt_reason', '')}"
+    return f"theory allows dt < {_fmt(limit, ' s')} for {integrator}"
+
+
 def energy_table(balances: dict, initial: float) -> list[str]:
     """The work-energy balance of each run: what the physics dissipated (W, by effect) and what
     the numerics made or lost (R = E - E(0) + W; docs/energy-balance.md)."""
@@ -168,7 +176,7 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         f"{tested.force_evals} force evaluations, {_fmt(tested.wall_time, ' s')} |",
         f"| MuJoCo | {twin.integrator}, dt = {twin.dt:g} s, solref mapping `{scene.mujoco.solref}`, "
         f"cone {scene.mujoco.cone}, {_fmt(twin.wall_time, ' s')} |",
-        f"| stability | theory allows dt < {_fmt(data['stable_dt_theory'], ' s')} for {scene.integrator} |",
+        f"| stability | {stability_words(data, scene.integrator)} |",
         f"| source | `{scene.source}`; MuJoCo model: [model.xml](model.xml) |",
         "",
     ]

@@ -103,13 +103,14 @@ def _theory(study, ax, xa, ya, extra, combo, integrator, grid_rows):
             values = {xa.vary.name: float(x), "dt": ya.values[0], **{v.name: c for v, c in zip(extra, combo)}}
             scene = study.source.varied(study.varies, tuple(values[n] for n in names))
             hs.append(stable_step(scene, integrator))
-        hs = np.array(hs)
+        hs = np.array(hs, dtype=float)
+        hs[hs <= 0.0] = np.nan   # a bare sign law: no stable step, nothing to draw on a log axis
         if not np.any(np.isfinite(hs)):
             return False
         ax.plot(xs, hs, color="black", linewidth=1.6, label="theory: stable_step")
         return True
     if ya is None and xa.vary.name == "dt":
-        h = [r["stable_step_theory"] for r in grid_rows if r["stable_step_theory"] is not None]
+        h = [r["stable_step_theory"] for r in grid_rows if r["stable_step_theory"]]
         if not h:
             return False
         ax.axvline(h[0], color="black", linewidth=1.6, label="theory: stable_step")
