@@ -28,6 +28,7 @@ COMMANDS = {
     "solref": "compare.commands.solref",
     "attribute": "compare.commands.attribute",
     "study": "compare.commands.study",
+    "identify": "compare.commands.identify",
 }
 
 EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2

@@ -266,17 +266,28 @@ def cheapest_table(results, command: str = "python -m compare sweep") -> str:
 EXPECTED_ORDER = {"explicit_euler": 1, "semi_implicit_euler": 1, "implicit_euler": 1, "rk4": 4,
                   "Euler": 1, "implicit": 1, "implicitfast": 1, "RK4": 4}
 ORDER_SLACK = 0.3   # a fitted slope this far below the order means something lowers it
+ORDER_POINTS = 3    # the finest steps: the asymptotic regime, where the order shows
+ROUNDOFF_ULPS = 10  # each step's energy sum rounds by a few eps of the energy: below 10 eps a step, R is round-off
+EPS = 2.220446049250313e-16
 
 
-def residual_order(runs) -> float:
-    """The slope of log |R(end)| against log dt over the stable runs (nan with fewer than two)."""
+def residual_order(runs, floor: float = 0.0) -> float:
+    """The slope of log |R(end)| against log dt over the ORDER_POINTS finest stable runs whose
+    |R(end)| stands above `floor` (J, the round-off of summing the energy over the run's
+    steps); nan with fewer than two."""
     pts = [(r.dt, abs(r.residual_end)) for r in runs
-           if r.stable and math.isfinite(r.residual_end) and r.residual_end != 0.0]
+           if r.stable and math.isfinite(r.residual_end) and abs(r.residual_end) > floor * r.steps]
+    pts = sorted(pts)[:ORDER_POINTS]
     if len(pts) < 2:
         return math.nan
     import numpy as np
     dts, rs = np.log([p[0] for p in pts]), np.log([p[1] for p in pts])
     return float(np.polyfit(dts, rs, 1)[0])
+
+
+def _floor(sweep) -> float:
+    """J per step: the round-off of the energy sums, ROUNDOFF_ULPS eps of the run's energy scale."""
+    return ROUNDOFF_ULPS * EPS * float(sweep.reference.get("energy_scale", 1.0))
 
 
 def residual_panel(ax, sweep) -> None:
@@ -287,7 +298,7 @@ def residual_panel(ax, sweep) -> None:
         if pts:
             xs, ys = zip(*pts)
             label = f"{'ours' if sim == 'custom' else 'MuJoCo'}: {LABELS.get(integ, integ)} " \
-                    f"(order {residual_order(sweep.of(sim, integ)):.2f})"
+                    f"(order {residual_order(sweep.of(sim, integ), _floor(sweep)):.2f})"
             ax.plot(xs, ys, marker="o" if sim == "custom" else "s", linestyle="-" if sim == "custom" else "--",
                     color=COLORS.get(integ), markersize=4, label=label)
     ax.set_xscale("log")
@@ -307,11 +318,14 @@ def residual_rows(sweep) -> list[str]:
              "|---|---|---|---|---|---|"]
     for sim, integ in dict.fromkeys((r.simulator, r.integrator) for r in sweep.runs):
         runs = sweep.of(sim, integ)
-        order, expected = residual_order(runs), EXPECTED_ORDER.get(integ)
+        order, expected = residual_order(runs, _floor(sweep)), EXPECTED_ORDER.get(integ)
         values = ", ".join(f"{r.residual_end:.2g} ({r.dt:g} s)" for r in runs
                            if r.stable and math.isfinite(r.residual_end))
         note = ""
-        if math.isfinite(order) and expected and order < expected - ORDER_SLACK:
+        if sim == "mujoco" and integ == "RK4":
+            note = ("not measured: the work of MuJoCo's RK4 needs its four stages' constraint forces, which its states "
+                    "do not carry (compare.energy.mujoco_side.native_balance steps it row by row)")
+        elif math.isfinite(order) and expected and order < expected - ORDER_SLACK:
             note = (f"lowered by the contact events ({switches} switches of the reference): a step across a switch "
                     "integrates the force's jump or kink at first or second order" if switches else
                     "lower than expected without a contact event")

@@ -1,0 +1,81 @@
+"""Tell which contact law a simulator implements: each effect's family and parameters, or none.
+
+    python -m compare identify MODULE:FUNCTION [SCENE ...] [--json]
+    python -m compare identify MODULE:FUNCTION [SCENE ...] --whole
+    python -m compare identify --trajectories DIR [SCENE ...]
+
+A step function step(state, scene, dt) -> state is called from states identify designs (flight,
+where contact begins, depths, normal velocities, slips, spins); each effect's force is recovered
+from the step's velocity change through the integrator found, in newtons, and every family of
+scene_types.laws is fitted to it. A family is named only where it reproduces the step to
+round-off; otherwise the law is null and the closest family is given. With --whole
+(simulate(scene) -> array (steps + 1, 6)) or --trajectories (DIR/<scene>.csv), the same by
+regression over the steps the run visited, to the rounding the file allows, saying which
+effects the run never exercised. SCENE: built-in names or .toml paths (default: every built-in).
+Exit status: 0 every exercised effect is the scene's own law; 1 one is not; 2 bad input (a
+module or function that does not load, a step that raises or returns no state). See
+docs/identify.md.
+"""
+from __future__ import annotations
+
+import sys
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("targets", nargs="*", metavar="MODULE:FUNCTION [SCENE ...]",
+                        help="the function under test (a step function; with --whole, simulate), then scenes "
+                             "(built-in names or .toml paths; default: every built-in). With --trajectories, "
+                             "scenes only")
+    parser.add_argument("--json", action="store_true", help="print one JSON object per scene (one per line)")
+    which = parser.add_mutually_exclusive_group()
+    which.add_argument("--whole", action="store_true",
+                       help="FUNCTION is simulate(scene) -> array (steps + 1, 6): regression over its run")
+    which.add_argument("--trajectories", metavar="DIR",
+                       help="DIR/<scene>.csv (t,x,y,theta,vx,vy,omega): regression over each file's steps")
+
+
+def _one_line(exc) -> None:
+    """Bad input without the user's traceback: identify answers in one line."""
+    from scene_types import BadInput
+    raise BadInput(str(exc)) from None
+
+
+def main(args) -> int:
+    from scene_types import BadInput
+
+    from ..identify import identify_run, identify_step
+    from ..identify.report import as_json, text
+    from ..scenarios import load_all
+    from ..usersim import UserCodeError, UserFault, load_simulator
+
+    targets = list(args.targets)
+    if args.trajectories is None:
+        if not targets:
+            raise BadInput("identify: expected MODULE:FUNCTION (a step function, or with --whole a simulate "
+                           "function) or --trajectories DIR")
+        spec, scenes = targets[0], targets[1:]
+    else:
+        spec, scenes = None, targets
+    try:
+        simulator = load_simulator(spec, args.whole, args.trajectories)
+    except UserCodeError as exc:
+        _one_line(exc)
+    scene_list = load_all(scenes)
+    status = 0
+    for scene in scene_list:
+        try:
+            if simulator.kind == "step":
+                result = identify_step(simulator, scene)
+            else:
+                run = simulator.run(scene)
+                result = identify_run(run.states, scene, run.rounding, simulator.kind)
+        except (UserCodeError, UserFault) as exc:
+            _one_line(exc)
+        if any(v is False for v in result["matches_scene"].values()):
+            status = 1
+        print(as_json(result) if args.json else text(result) + "\n", flush=True)
+    return status
+
+
+if __name__ == "__main__":   # python -m compare.commands.identify is not the entry point: compare.cli is
+    sys.exit(2)

@@ -1,0 +1,70 @@
+"""Time `identify` per scene for a step function: the designed calls and the fits, best of a few.
+
+    python -m compare.identify.benchmark [MODULE:FUNCTION] [SCENE ...] [--repeat N]
+
+Default: examples/seed_sim.py:step (plain numpy) on every built-in scene. Prints, per scene, the
+calls made, the fastest and the median wall time of N runs (each from a fresh import), and the
+time the step function itself took (the rest is the identification's own work).
+"""
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+# The budget one scene's identification is held to, for a plain numpy step function (s).
+BUDGET = 5.0
+
+
+class _Timed:
+    """The step function, its own time added up."""
+
+    def __init__(self, simulator):
+        self.simulator, self.spent = simulator, 0.0
+        self.spec = simulator.spec
+
+    def fresh(self):
+        self.simulator.fresh()
+        inner = self.simulator.function
+
+        def timed(*args):
+            t = time.perf_counter()
+            try:
+                return inner(*args)
+            finally:
+                self.spent += time.perf_counter() - t
+        self.function = timed
+
+
+def main(argv=None) -> int:
+    from ..scenarios import load_all
+    from ..usersim import load_simulator
+    from .from_step import identify_step
+
+    p = argparse.ArgumentParser(prog="python -m compare.identify.benchmark", description=__doc__.splitlines()[0])
+    p.add_argument("sim", nargs="?", default="examples/seed_sim.py:step", metavar="MODULE:FUNCTION")
+    p.add_argument("scenes", nargs="*", metavar="SCENE")
+    p.add_argument("--repeat", type=int, default=3)
+    args = p.parse_args(argv)
+    simulator = load_simulator(args.sim)
+    scenes = load_all(args.scenes)
+    identify_step(simulator, scenes[0])   # first use: imports and scipy's lazy modules, not timed
+    print(f"{'scene':<16} {'calls':>6} {'best s':>8} {'median s':>9} {'in step s':>10}")
+    worst = 0.0
+    for scene in scenes:
+        times, own, calls = [], [], 0
+        for _ in range(args.repeat):
+            timed = _Timed(simulator)
+            start = time.perf_counter()
+            out = identify_step(timed, scene)
+            times.append(time.perf_counter() - start)
+            own.append(timed.spent)
+            calls = out["calls"]
+        worst = max(worst, min(times))
+        print(f"{scene.name:<16} {calls:>6} {min(times):>8.3f} {statistics.median(times):>9.3f} {min(own):>10.3f}")
+    print(f"slowest scene {worst:.3f} s (budget {BUDGET:g} s)")
+    return 0 if worst <= BUDGET else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

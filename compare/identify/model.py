@@ -1,0 +1,108 @@
+"""A candidate law set (gravity, body, the three families) as the body's accelerations, vectorised."""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .families import Family
+from .geometry import Geometry
+
+
+@dataclass(frozen=True)
+class Law:
+    """Everything a step's forces depend on: g (m/s^2), mass (kg), inertia (kg m^2), the contact
+    points, and each effect's family with its parameters (None: the effect is not applied)."""
+
+    g: float
+    mass: float
+    inertia: float
+    geometry: Geometry
+    normal: tuple[Family, tuple] | None
+    friction: tuple[Family, tuple] | None
+    rolling: tuple[Family, tuple] | None
+
+    def with_(self, **changes) -> "Law":
+        return replace(self, **changes)
+
+
+@dataclass(frozen=True)
+class Contacts:
+    """Per state (rows) and point (columns): arms r (m), depth d (m), normal velocity v_n and
+    slip v (m/s), touching mask, normal and friction force (N), rolling torque (N m)."""
+
+    rx: np.ndarray
+    ry: np.ndarray
+    d: np.ndarray
+    vn: np.ndarray
+    slip: np.ndarray
+    touching: np.ndarray
+    fn: np.ndarray
+    ft: np.ndarray
+    roll: np.ndarray
+
+
+def contacts(law: Law, Z: np.ndarray) -> Contacts:
+    """The contact quantities of every point at states Z (n, 6)."""
+    Z = np.atleast_2d(np.asarray(Z, dtype=float))
+    y, theta, vx, vy, om = Z[:, 1:2], Z[:, 2], Z[:, 3:4], Z[:, 4:5], Z[:, 5:6]
+    rx, ry = law.geometry.arms(theta)
+    d = -(y + ry)
+    vn = vy + om * rx
+    slip = vx - om * ry
+    touching = d > 0.0
+    zero = np.zeros_like(d)
+    fn = zero
+    if law.normal is not None:
+        fam, p = law.normal
+        fn = np.where(touching, fam.force(np.where(touching, d, 0.0), vn, p), 0.0)
+    ft = roll = zero
+    if law.friction is not None:
+        fam, p = law.friction
+        ft = np.where(touching, fam.force(fn, slip, p), 0.0)
+    if law.rolling is not None:
+        fam, p = law.rolling
+        roll = np.where(touching, fam.force(fn, om, p), 0.0)
+    return Contacts(rx, ry, d, vn, slip, touching, fn, ft, roll)
+
+
+def accelerations(law: Law, Z: np.ndarray) -> np.ndarray:
+    """(ax, ay, alpha) at states Z (n, 6): m/s^2, m/s^2, rad/s^2."""
+    c = contacts(law, Z)
+    fx = c.ft.sum(axis=1)
+    fy = c.fn.sum(axis=1) - law.mass * law.g
+    tau = (c.rx * c.fn - c.ry * c.ft + c.roll).sum(axis=1)
+    alpha = tau / law.inertia if law.geometry.rotates else np.zeros_like(tau)
+    return np.column_stack([fx / law.mass, fy / law.mass, alpha])
+
+
+def force_terms(law: Law, Z: np.ndarray) -> np.ndarray:
+    """The magnitudes (n, 3) whose rounding a force evaluation carries, per channel (N, N, N m):
+    each term of each touching point's force, with the inputs that enter it (a depth
+    d = -(y + r_y) rounds on |y| + |r_y|, not on d), so that a few ulps of these bound two
+    codes' difference in computing the same law."""
+    c = contacts(law, Z)
+    Z = np.atleast_2d(np.asarray(Z, dtype=float))
+    y, vx, vy, om = (np.abs(Z[:, j:j + 1]) for j in (1, 3, 4, 5))
+    k = c_eff = 0.0
+    if law.normal is not None:
+        fam, p = law.normal
+        k = abs(p[0])
+        c_eff = abs(p[1]) if fam.name != "hunt_crossley" else abs(p[0] * p[1]) * np.abs(c.d)
+    arm = np.hypot(c.rx, c.ry)
+    n_terms = k * (y + np.abs(c.ry)) + c_eff * (vy + np.abs(om * c.rx) + np.abs(c.vn)) + np.abs(c.fn)
+    t_terms = np.zeros_like(n_terms)
+    if law.friction is not None and law.friction[1]:
+        fam, p = law.friction
+        sharp = abs(p[1]) if len(p) > 1 else 0.0
+        t_terms = abs(p[0]) * (n_terms + np.abs(c.fn) * (1.0 + sharp * (vx + np.abs(om * c.ry))))
+    r_terms = np.zeros_like(n_terms)
+    if law.rolling is not None and law.rolling[1]:
+        fam, p = law.rolling
+        sharp = abs(p[1]) if len(p) > 1 else 0.0
+        r_terms = abs(p[0]) * (n_terms + np.abs(c.fn) * (1.0 + sharp * om))
+    q_terms = np.abs(c.rx) * n_terms + np.abs(c.ry) * t_terms + r_terms + arm * (np.abs(c.fn) + np.abs(c.ft))
+    on = c.touching
+    return np.column_stack([np.where(on, t_terms, 0.0).sum(axis=1),
+                            law.mass * abs(law.g) + np.where(on, n_terms, 0.0).sum(axis=1),
+                            np.where(on, q_terms, 0.0).sum(axis=1)])

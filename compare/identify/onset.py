@@ -1,0 +1,126 @@
+"""Where contact begins: each contact point found by bisection on the height, whatever the law."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .geometry import Geometry
+from .integrators import FALL_SHARE, READS_AT_END
+from .probes import Scales, onset_angles
+from .roundoff import EPS, POINT_ULPS
+
+# Steps of doubling tried to bracket the onset, up or down from the scene's own point.
+BRACKET_TRIES = 12
+
+
+@dataclass
+class PointFound:
+    """A contact point found: index in the scene's list, angles (rad), onset arms r_y (m),
+    the fitted body-frame point (lx, ly) (lx None when the points do not turn: not seen from
+    heights), the largest residual (m) and its ratio to the round-off bound (relative), and
+    the point's uncertainty (m) from that bound."""
+
+    index: int
+    angles: list[float]
+    ry: np.ndarray
+    point: tuple[float | None, float]
+    residual: float
+    relative: float
+    uncertainty: np.ndarray
+
+
+class OnsetSearch:
+    """Bisection on the height of the centre of mass, the body at rest at a given angle."""
+
+    def __init__(self, calls, geometry: Geometry, scales: Scales, g: float, integrator: str):
+        self.calls, self.geometry, self.scales = calls, geometry, scales
+        self.h = scales.dt
+        self.shift = FALL_SHARE.get(integrator, 0.0) * g * self.h * self.h
+        self._free = {}
+        self.lift = 0.0
+        if integrator in READS_AT_END:
+            self.lift = -self._free_fall(0.0)[1]
+            self._free = {}
+
+    def _free_fall(self, theta: float) -> np.ndarray:
+        if theta not in self._free:
+            y = 10.0 * self.scales.size + 1.0
+            self._free[theta] = self.calls.one([0.0, y, theta, 0.0, self.lift, 0.0], self.h, "free fall")[3:]
+        return self._free[theta]
+
+    def touches(self, theta: float, y: float) -> bool:
+        v1 = self.calls.one([0.0, y, theta, 0.0, self.lift, 0.0], self.h, f"onset at angle {theta:.6g} rad")[3:]
+        return not np.array_equal(v1, self._free_fall(theta))
+
+    def height(self, i: int, theta: float) -> float | None:
+        """The onset height y* (m) of the centre of mass at angle theta: touching below, not above."""
+        _, ry = self.geometry.arm(i, theta)
+        guess = -float(ry)
+        step = max(self.scales.depth, 1e-6 * self.scales.size)
+        hi = lo = None
+        for k in range(BRACKET_TRIES):
+            y = guess + step * 2.0 ** k
+            if not self.touches(theta, y):
+                hi = y
+                break
+        for k in range(BRACKET_TRIES):
+            y = guess - 0.5 * step * 2.0 ** (k - BRACKET_TRIES // 2)
+            if hi is not None and y >= hi:
+                continue
+            if self.touches(theta, y):
+                lo = y
+                break
+        if hi is None or lo is None:
+            return None
+        while True:
+            mid = lo + 0.5 * (hi - lo)
+            if mid <= lo or mid >= hi:
+                return 0.5 * (lo + hi)
+            if self.touches(theta, mid):
+                lo = mid
+            else:
+                hi = mid
+
+    def points(self) -> tuple[list[PointFound], list[int], bool | None]:
+        """(points found, indices never found touching, whether they turn with theta: True or
+        False as the heights say, None when no hypothesis fits)."""
+        found, missing = [], []
+        for i, angles in onset_angles(self.geometry):
+            with self.calls.session():
+                ys = [self.height(i, th) for th in angles]
+            if any(y is None for y in ys):
+                missing.append(i)
+                continue
+            ys = np.array(ys)
+            ry = -(ys - self.shift)
+            # plus the depth whose force first shows in v1 = v0 - g h + h Fn / m: an ulp of the
+            # weight's share, Fn = k d ~ eps m g, a depth of eps m g / k (the resting depth's eps)
+            bound = (POINT_ULPS * EPS * (np.abs(ys) + np.hypot(*self.geometry.points[i])) + 4.0 * EPS * self.shift
+                     + POINT_ULPS * EPS * self.scales.depth)
+            found.append(self._fit(i, np.array(angles), ry, bound))
+        turn = None
+        if found:
+            rotating = [f for f in found if f.point[0] is not None]
+            if self.geometry.rotate and len(rotating) == len(found):
+                turn = True if all(f.relative <= 1.0 for f in found) else None
+            elif not self.geometry.rotate:
+                turn = False if all(f.relative <= 1.0 for f in found) else None
+        return found, missing, turn
+
+    def _fit(self, i: int, angles: np.ndarray, ry: np.ndarray, bound: np.ndarray) -> PointFound:
+        if self.geometry.rotate:
+            A = np.column_stack([np.sin(angles), np.cos(angles)])
+            pinv = np.linalg.pinv(A)
+            l = pinv @ ry
+            resid = np.abs(A @ l - ry)
+            # a point that does not turn with the body (the user's mistake): r_y the same at every angle
+            flat = np.abs(ry - ry.mean())
+            if np.max(resid / bound) > 1.0 and np.max(flat / bound) <= 1.0:
+                return PointFound(i, list(angles), ry, (None, float(ry.mean())), float(flat.max()),
+                                  float(np.max(flat / bound)), np.array([np.inf, bound.max()]))
+            return PointFound(i, list(angles), ry, (float(l[0]), float(l[1])), float(resid.max()),
+                              float(np.max(resid / bound)), np.abs(pinv) @ bound)
+        flat = np.abs(ry - ry.mean())
+        return PointFound(i, list(angles), ry, (None, float(ry.mean())), float(flat.max()),
+                          float(np.max(flat / bound)), np.array([np.inf, bound.max()]))
