@@ -19,7 +19,14 @@ an explicit <inertial>; contact sites at the contact points; energy sensors):
     solref_for, contact_parameters                    solref.py (friction.py)
     energy from MuJoCo's sensors, blow-up guard       energy.py, guard.py
 """
-from .dynamics import simulate_dynamics
+import mujoco as _mujoco
+
+# MuJoCo's warnings (a bad acceleration, ...) are counted in mjData.warning, which every run
+# here reads; its default handler would also print them and write MUJOCO_LOG.TXT into the
+# user's working folder
+_mujoco.set_mju_user_warning(lambda message: None)
+
+from .dynamics import simulate_dynamics  # noqa: E402
 from .rigid_body import RigidBody, rigid_body
 from .run import MujocoDiverged, simulate_mujoco
 from .solref import MAPPINGS, ContactParameters, contact_parameters, solref_for

@@ -43,7 +43,7 @@ def _one_line(exc) -> None:
 def main(args) -> int:
     from scene_types import BadInput
 
-    from ..identify import identify_run, identify_step
+    from ..identify import identify
     from ..identify.report import as_json, text
     from ..scenarios import load_all
     from ..usersim import UserCodeError, UserFault, load_simulator
@@ -64,11 +64,7 @@ def main(args) -> int:
     status = 0
     for scene in scene_list:
         try:
-            if simulator.kind == "step":
-                result = identify_step(simulator, scene)
-            else:
-                run = simulator.run(scene)
-                result = identify_run(run.states, scene, run.rounding, simulator.kind)
+            result = identify(simulator, scene)
         except (UserCodeError, UserFault) as exc:
             _one_line(exc)
         if any(v is False for v in result["matches_scene"].values()):

@@ -237,10 +237,20 @@ def under_law(scenes, law: str, simulator):
     if law != "identified":
         table = load_law(law)
         return [with_law(s, table, law) for s in scenes]
-    if simulator is None or not hasattr(simulator, "identify_law"):
+    if simulator is None:
         raise BadInput("--law identified: expected --sim MODULE:FUNCTION (a step function, or with --whole "
                        "a whole run) or --trajectories DIR, whose law `identify` can find")
-    return [with_law(s, simulator.identify_law(s), "identified") for s in scenes]
+    from ..identify import NotIdentified, identified_contact, identify
+    from ..usersim import UserCodeError, UserFault
+    out = []
+    for scene in scenes:
+        try:
+            out.append(with_law(scene, identified_contact(scene, identify(simulator, scene)), "identified"))
+        except NotIdentified as exc:
+            raise BadInput(f"--law identified: {exc} (`python -m compare identify` shows each effect)") from None
+        except UserFault as exc:
+            raise UserCodeError(f"--law identified: {exc}", getattr(exc, "details", "")) from None
+    return out
 
 
 def prepare_workers() -> None:

@@ -3,4 +3,13 @@ from .contact import NotIdentified, identified_contact, identified_scene
 from .from_step import identify_step
 from .whole_run import identify_run
 
-__all__ = ["NotIdentified", "identified_contact", "identified_scene", "identify_run", "identify_step"]
+__all__ = ["NotIdentified", "identified_contact", "identified_scene", "identify", "identify_run", "identify_step"]
+
+
+def identify(simulator, scene) -> dict:
+    """The identification of one scene for the simulator under test (compare.usersim): from
+    designed calls of a step function, else by regression over its run (a whole run, CSVs)."""
+    if simulator.kind == "step":
+        return identify_step(simulator, scene)
+    run = simulator.run(scene)
+    return identify_run(run.states, scene, run.rounding, simulator.kind)

@@ -20,13 +20,17 @@ def identified_contact(scene: Scene, identification: dict) -> Contact:
     """dataclasses.replace of the scene's Contact with each exercised effect's identified family
     and parameters. "none" (the step applies no friction or rolling resistance) becomes mu = 0
     (mu_roll = 0) under the scene's family: the same forces. An effect not exercised keeps the
-    scene's. Raises NotIdentified where an exercised effect's law is None."""
+    scene's, and so does one the scene's own law reproduces to round-off (a fitted c of 3e-16
+    where the scene has 0 is that 0). Raises NotIdentified where an exercised effect's law is None."""
     changes: dict = {}
     for effect, (field, neutral) in _FIELDS.items():
         entry = identification.get(effect) or {}
         if not entry.get("exercised"):
             continue
         law = entry.get("law")
+        scene_fits = entry.get("scene_relative")
+        if scene_fits is not None and scene_fits <= 1.0:
+            continue   # the scene's own family and parameters reproduce the step: keep them exactly
         if law is None:
             closest = (entry.get("closest") or {}).get("law")
             raise NotIdentified(f"{identification.get('scene', scene.name)}: {effect}: no family reproduces the step "

@@ -53,13 +53,15 @@ def integrator_tests(law: Law, flight: Probes, pairs: Probes | None, restart: tu
 
 
 def contact_shown(law: Law, flight: Probes, pairs: Probes) -> bool:
-    """Whether the pairs' steps differ from free flight by more than round-off (a force acts)."""
+    """Whether some pair's steps differ from free flight by more than round-off (a force acts):
+    one is enough to tell the integrators apart (a law may leave the others free, as
+    Hunt-Crossley does above its dissipation's speed 1 / dissipation)."""
     if pairs is None or not len(pairs):
         return False
     free = rates(flight)[0] if len(flight) else np.zeros(3)
     M = inertias(law)
     b = rate_bound(law, "semi_implicit_euler", pairs.Z0, pairs.Z1, pairs.H) / M
-    return bool(np.all(np.max(np.abs(rates(pairs) - free) / np.maximum(b, np.finfo(float).tiny), axis=1) > 1.0))
+    return bool(np.any(np.max(np.abs(rates(pairs) - free) / np.maximum(b, np.finfo(float).tiny), axis=1) > 1.0))
 
 
 def decide(tests: dict) -> tuple[str | None, str, float, str]:

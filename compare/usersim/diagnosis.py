@@ -29,6 +29,7 @@ from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 from ..verdict import mistakes
 from ..verdict.case import as_case
 from .errors import UserCodeError, UserFault
+from .law_diagnosis import law_findings, law_verdict
 from .moments import not_probed, pick_moments
 from .scene_dict import scene_dict
 
@@ -137,10 +138,13 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
     force         the first probed moment (or, without one, trajectory step) off round-off as
                   a force: {where, off, Fx, Fy (N), torque (N m), points [{point, arm, depth}],
                   text}, or None
+    laws          where no mistake is named: [{effect, law, text}] for each effect whose law
+                  `identify` finds to differ from the scene's (law_diagnosis.py)
     verdict       one line
     """
     integrator = simulator.integrator_for(scene)
     states = np.asarray(states, dtype=float)
+    laws: list[dict] = []
     traj = mistakes.diagnose(scene, states, integrator, scene.dt, input_rtol=rounding or 0.0)
     moments = (_moments(simulator, scene, integrator, also=traj.get("explained_by", []), case=case)
                if probe and getattr(simulator, "kind", "") == "step" else None)
@@ -168,8 +172,11 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
             parts.append("your trajectory: " + _trajectory_where(step_row))
         parts += [n["text"] for n in not_named[:VERDICT_NOT_NAMED]]
         verdict = "no catalogued mistake explains the residual to round-off: " + "; ".join(parts)
+        laws = law_findings(simulator, scene, states, rounding, probe)
+        if laws:
+            verdict = law_verdict(laws) + ". " + verdict[0].upper() + verdict[1:]
     return {"integrator": integrator, "moments": moments, "trajectory": traj, "named": named,
-            "not_named": not_named, "force": force, "verdict": verdict}
+            "not_named": not_named, "force": force, "verdict": verdict, "laws": laws}
 
 
 def _trajectory_where(row: dict) -> str:

@@ -34,6 +34,10 @@ from .native_check import native_row
 MUJOCO_INTEGRATORS = {"semi_implicit_euler": "Euler", "rk4": "RK4"}
 CUSTOM = "custom_sim"
 SHOWN = ("reference", "native")    # checks that are shown, not judged, by design
+# damping families the contact check's variant (friction off, the linear law) can stand for: a
+# user's code for compression or linear follows the scene's damping_law; one written for
+# Hunt-Crossley or the unclamped law need not
+LINEAR_KIN = ("compression", "linear")
 
 
 @dataclass
@@ -326,6 +330,11 @@ def contact_row(case: Case, simulator, integrator: str | None = None) -> dict:
     if not simulator.reruns:
         return not_judged(integrator, "needs a run of the scene with friction off, which precomputed trajectories cannot "
                           "give (bring a step function)")
+    if scene.contact.damping_law not in LINEAR_KIN:
+        return not_judged(integrator, f"MuJoCo's own contact is a spring-damper that damps both ways and never pulls "
+                          f"(the linear law), and this check runs your code on the scene with that law; the law "
+                          f"judged here, {scene.contact.damping_law}, has no such form in MuJoCo, and code written "
+                          f"for it need not follow the variant: the dynamics check runs your law itself in MuJoCo")
     from ..usersim import UserCodeError, UserFault, run_user
     from ..usersim.guard import EndedProcess
     variant = contact_scene(scene)

@@ -1,0 +1,52 @@
+"""The diagnosis in laws: where no catalogued mistake explains a run, which effect of the user's
+law is another family (or other parameters) than the scene's, found by `identify`."""
+from __future__ import annotations
+
+from scene_types import Scene, law_text
+
+from ..identify.report import _params
+
+FIELD = {"normal": "damping_law", "friction": "friction_law", "rolling": "roll_law"}
+WORDS = {"normal": "normal force", "friction": "friction", "rolling": "rolling resistance"}
+
+
+def law_findings(simulator, scene: Scene, states, rounding=None, probe: bool = True) -> list[dict]:
+    """[{effect, law, text}] for each effect whose identified law differs from the scene's: from
+    designed calls of a step function (probe), else by regression over the run's states. Empty
+    when identification itself fails (the user's code raising there is the run's own story)."""
+    from ..identify import identify_run, identify_step
+    from .errors import UserCodeError, UserFault
+
+    try:
+        if probe and getattr(simulator, "kind", "") == "step":
+            result = identify_step(simulator, scene)
+        else:
+            result = identify_run(states, scene, rounding, getattr(simulator, "kind", "whole"))
+    except (UserCodeError, UserFault, ValueError, ArithmeticError):
+        return []
+    asked = {"normal": law_text(scene.contact).split("; ")[0].removeprefix("normal "),
+             "friction": law_text(scene.contact).split("; ")[1].removeprefix("friction "),
+             "rolling": law_text(scene.contact).split("; ")[2].removeprefix("rolling ")}
+    out = []
+    for effect, field in FIELD.items():
+        if result["matches_scene"].get(effect) is not False:
+            continue
+        e = result[effect]
+        if e.get("law") is not None:
+            found = f"{e['law']} ({_params(e, effect)})"
+            text = f"your {WORDS[effect]} is {found}, the scene asks {asked[effect]}"
+        else:
+            c = e.get("closest", {})
+            text = (f"your {WORDS[effect]} fits no family of the harness (closest {c.get('law')}, "
+                    f"{c.get('residual', float('nan')):.3g} off), the scene asks {asked[effect]}")
+        out.append({"effect": effect, "law": e.get("law"), "text": text})
+    return out
+
+
+def law_verdict(findings: list[dict]) -> str:
+    """One clause for the verdict line: the law, not a mistake, and how to judge the code under it."""
+    said = "; ".join(f["text"] for f in findings)
+    if all(f["law"] is not None for f in findings):
+        return (f"not a catalogued mistake but another law: {said}; `run --law identified` judges your code "
+                "under its own law")
+    return f"your law differs from the scene's: {said}"
