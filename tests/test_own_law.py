@@ -94,7 +94,8 @@ def test_an_example_passes_under_its_own_law_and_is_named_under_the_seeds(tmp_pa
     status, said, out = run(tmp_path, capsys, scene, "--sim", f"{module}:step")
     assert status == 1, said.out
     verdict = json.loads((out / name / "metrics.json").read_text())["diagnosis"]["verdict"]
-    assert verdict.startswith("not a catalogued mistake but another law") and family in verdict, verdict
+    assert verdict.startswith("your law differs from the scene's") and family in verdict, verdict
+    assert "`run --law identified` judges your code under it" in verdict
 
 
 @pytest.mark.parametrize("wrong, right", [("(1.0 - DISSIPATION * normal_velocity)", "(1.0 + DISSIPATION * normal_velocity)"),

@@ -246,10 +246,14 @@ def test_the_missing_damper_is_given_in_newtons(no_damper):
 
 
 def test_nothing_catalogued_explains_a_missing_damper(no_damper):
+    """No mistake of the catalogue is a missing damper, but the law's parameter is found: the
+    normal force is the scene's family with c = 0."""
     _, diag = no_damper
     assert diag["named"] == []
     verdict = diag["verdict"]
-    assert verdict.startswith("no catalogued mistake explains")
+    assert verdict.startswith("your law differs from the scene's: your normal force is compression (k 10000 N/m, "
+                              "c 0 N s/m), the scene asks compression (k 10000 N/m, c 20 N s/m)"), verdict
+    assert "no catalogued mistake explains" in verdict.lower()
     assert "touchdown" in verdict and "vy" in verdict and "m/s" in verdict
     assert f"{diag['force']['Fy']:.3g} N" in verdict
 

@@ -26,7 +26,8 @@ def test_every_default_is_filled_in(name):
     assert json.loads(json.dumps(d)) == d  # plain JSON types only
     for key in ("duration", "dt", "steps", "integrator", "effects", "g", "state0"):
         assert d[key] is not None, key
-    assert set(d["contact"]) == {"k", "c", "damping_law", "mu", "alpha", "mu_roll", "roll_sharpness"}
+    assert set(d["contact"]) == {"k", "c", "damping_law", "dissipation", "mu", "alpha", "friction_law", "mu_roll",
+                                 "roll_law", "roll_sharpness"}
     assert set(d["initial"]) == {"position", "velocity", "angle", "angular_velocity"}
     assert d["mujoco"]["dt"] is not None
     assert d["steps"] * d["dt"] == pytest.approx(d["duration"])

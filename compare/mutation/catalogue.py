@@ -38,7 +38,7 @@ MISTAKES = (
             "fy -= model.g / model.inv_mass", "fy -= model.g"),
     Mistake("friction_on_com_velocity", "friction from the centre of mass's velocity, not the contact point's",
             "Algorithm 2, line 8: v_i <- v + omega [-r_iy, r_ix]", "forces.py",
-            "tanh(model.alpha * (vx - om * ry))", "tanh(model.alpha * vx)"),
+            "slip_sign(model, vx - om * ry)", "slip_sign(model, vx)"),
     Mistake("normal_velocity_of_com", "the normal damping from the centre of mass's vertical velocity",
             "Algorithm 2, line 8: v_i <- v + omega [-r_iy, r_ix]", "forces.py",
             "fn = normal_force(model, d, vy + om * rx)", "fn = normal_force(model, d, vy)"),

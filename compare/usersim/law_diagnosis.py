@@ -24,6 +24,8 @@ def law_findings(simulator, scene: Scene, states, rounding=None, probe: bool = T
             result = identify_run(states, scene, rounding, getattr(simulator, "kind", "whole"))
     except (UserCodeError, UserFault, ValueError, ArithmeticError):
         return []
+    if any(result["matches_scene"].get(part) is False for part in ("integrator", "body", "gravity")):
+        return []   # the forces are read through the body and the step: a law read through wrong ones says nothing
     asked = {"normal": law_text(scene.contact).split("; ")[0].removeprefix("normal "),
              "friction": law_text(scene.contact).split("; ")[1].removeprefix("friction "),
              "rolling": law_text(scene.contact).split("; ")[2].removeprefix("rolling ")}
@@ -44,9 +46,10 @@ def law_findings(simulator, scene: Scene, states, rounding=None, probe: bool = T
 
 
 def law_verdict(findings: list[dict]) -> str:
-    """One clause for the verdict line: the law, not a mistake, and how to judge the code under it."""
+    """One clause for the verdict line: which effects of the law differ, and, where each is a
+    family of the harness, how to judge the code under its own law if that law is meant."""
     said = "; ".join(f["text"] for f in findings)
     if all(f["law"] is not None for f in findings):
-        return (f"not a catalogued mistake but another law: {said}; `run --law identified` judges your code "
-                "under its own law")
+        return (f"your law differs from the scene's: {said}; if that is the law you mean, `run --law identified` "
+                "judges your code under it")
     return f"your law differs from the scene's: {said}"
