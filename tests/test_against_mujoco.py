@@ -15,7 +15,11 @@ from compare.verdict.scenario import metrics_json, run_scenario
 from compare.verdict.contact_check import MOTION_SHARE
 
 
-@pytest.mark.parametrize("path", builtin_paths(), ids=lambda p: p.stem)
+SLOW = ("t_shape_drop", "spinning_box")   # the two longest: CI's step for slow checks
+
+
+@pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.slow) if p.stem in SLOW else p
+                                  for p in builtin_paths()], ids=lambda p: p.stem)
 def test_builtin_scenario_agrees_with_mujoco(path):
     scene = load(str(path))
     assert scene.mujoco.solref == "penalty"

@@ -46,6 +46,7 @@ def test_point_drop_difference_is_the_damping_law():
     assert by_name["contact point"]["step_position"] == 0.0
 
 
+@pytest.mark.slow
 def test_stiff_contact_difference_is_the_friction_law_at_impact():
     """stiff_contact's 0.166 m: at the first impact the load peaks at ~4000 m g; our tanh law
     brakes at mu Fn and nearly stops the slide (0.5 -> 0.026 m/s in 0.1 ms), MuJoCo's viscous

@@ -8,6 +8,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from compare.accuracy import cold_start
 from custom_sim import compile_cache
 from custom_sim.compile_cache import COMPILING_MESSAGE, is_cached, needs_compiling, warm_up
@@ -45,6 +47,7 @@ print(sum(integrate_explicit.stats.cache_misses.values()), sum(integrate_implici
 """
 
 
+@pytest.mark.slow
 def test_the_parallel_warm_up_compiles_both_loops_into_an_empty_cache_and_says_so_once(tmp_path):
     """Its two halves are compiled in two processes: this one compiles the explicit loop and
     loads the implicit one from what the other wrote; afterwards the cache is complete."""

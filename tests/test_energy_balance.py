@@ -313,6 +313,7 @@ def test_metrics_block_contract():
     assert block["residual_max"] >= abs(block["residual_end"])
 
 
+@pytest.mark.slow
 def test_mujoco_twins_on_box_drop():
     """The dynamics twin (our law through MuJoCo's callback) has custom_sim's R to within what
     the dynamics check's DYNAMICS_TOLERANCE allows. The native twin (penalty mapping: its normal
@@ -366,7 +367,8 @@ def test_mujoco_native_residual_by_mapping():
     assert np.max(np.abs(physical.R - defect)) <= 64 * EPS * physical.E[0] * np.sqrt(len(defect))
 
 
-@pytest.mark.parametrize("name", ["box_drop", "rolling_circle", "elastic_bounce"])
+@pytest.mark.parametrize("name", [pytest.param("box_drop", marks=pytest.mark.slow),
+                                  pytest.param("rolling_circle", marks=pytest.mark.slow), "elastic_bounce"])
 def test_mujocos_balance_from_its_states_is_its_balance_row_by_row(name):
     """The native twin's balance from its states alone (as `run` computes it) against the one
     summed from MuJoCo's constraint rows at every step: the same R, since MuJoCo's Euler

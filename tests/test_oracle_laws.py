@@ -434,7 +434,7 @@ def balance(scene, points=20001):
     return float(np.max(np.abs(e - e[0] + ref.work.sum(axis=1)))), float(ref.work.min())
 
 
-SEED_SCENES = load_builtins() + load_builtins("stress")
+SEED_SCENES = load_builtins() + [pytest.param(s, marks=pytest.mark.slow, id=s.name) for s in load_builtins("stress")]
 
 
 @pytest.mark.parametrize("scene", SEED_SCENES, ids=lambda s: s.name)

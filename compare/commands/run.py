@@ -203,6 +203,8 @@ def _run(args) -> int:
             named = warning if warning.startswith(f"{r['name']}:") else f"{r['name']}: {warning}"
             print(f"warning: {named}", file=sys.stderr)
         print(verdict_line(r))
+        for law in (r.get("diagnosis") or {}).get("laws") or []:
+            print(f"{'':<20} law   {law['text']}")
     for text in details:
         print(text, file=sys.stderr)
     for name, status, why in failed:
