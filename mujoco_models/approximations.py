@@ -135,7 +135,7 @@ def rolling_notes(scene: Scene, twin) -> list[str]:
              "(f_t / mu)^2 + (tau / mu_roll)^2 <= Fn^2 (elliptic): while the disk slides, the sliding "
              "force takes the whole cone and the rolling torque is about 0, where ours applies "
              "mu Fn and mu_roll Fn together"]
-    if twin.contact.mapping == "penalty" and twin.contact.friction_damping:
+    if twin.contact.mapping == "penalty" and twin.contact.friction_damping and scene.contact.mu_roll > 0.0:
         mu, roll = scene.contact.mu, scene.contact.mu_roll
         notes.append(f"rolling resistance (penalty): below its cap mu_roll Fn the rolling torque is "
                      f"viscous, its regularisation being mu^2 / mu_roll^2 = {(mu / roll) ** 2:.3g} times the "

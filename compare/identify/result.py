@@ -119,5 +119,22 @@ def matches(out: dict, scene) -> dict:
         e = out[effect]
         m[effect] = None if not e["exercised"] else bool(e["scene_relative"] is not None and e["scene_relative"] <= 1.0)
     b = out["body"]
-    m["body"] = None if b.get("scene_relative") is None else bool(b["scene_relative"] <= 1.0 and b["points_match"])
+    m["body"] = None if b.get("scene_relative") is None else bool(b["points_match"] and _same_inertia(b, scene))
     return m
+
+
+# A fitted inertia carries the round-off of the torques it is read from (about 1e-12 of it): two
+# inertias this close are the same body; a wrong formula moves it by a factor
+INERTIA_RTOL = 1e-9
+
+
+def _same_inertia(body: dict, scene) -> bool:
+    """The inertia found is the scene's (the oracle's geometry), or, where none was fitted, the
+    scene's own inertia reproduced the torques to round-off."""
+    from compare.oracle.rigid_body import rigid_body
+
+    found = body.get("inertia")
+    if found is None or not math.isfinite(found):
+        return bool(body["scene_relative"] <= 1.0)
+    want = rigid_body(scene.body).inertia if rigid_body(scene.body).rotates else 0.0
+    return abs(found - want) <= INERTIA_RTOL * max(abs(want), np.finfo(float).tiny)

@@ -24,7 +24,9 @@ def law_findings(simulator, scene: Scene, states, rounding=None, probe: bool = T
             result = identify_run(states, scene, rounding, getattr(simulator, "kind", "whole"))
     except (UserCodeError, UserFault, ValueError, ArithmeticError):
         return []
-    if any(result["matches_scene"].get(part) is False for part in ("integrator", "body", "gravity")):
+    declared = simulator.integrator_for(scene)
+    if result["integrator"]["name"] != declared or any(result["matches_scene"].get(part) is False
+                                                        for part in ("body", "gravity")):
         return []   # the forces are read through the body and the step: a law read through wrong ones says nothing
     asked = {"normal": law_text(scene.contact).split("; ")[0].removeprefix("normal "),
              "friction": law_text(scene.contact).split("; ")[1].removeprefix("friction "),

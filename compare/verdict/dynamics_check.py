@@ -226,7 +226,8 @@ def friction_step_number(scene: Scene, states: np.ndarray) -> float:
     vn, vt = vy + om * rx, vx - om * ry
     fn = np.where(depth > 0.0, normal_force(ct, depth, vn), 0.0)
     inv_mt = 1.0 / rb.mass + (ry * ry / rb.inertia if rb.rotates else 0.0)
-    rate = scene.dt * ct.mu * fn * friction_slope(ct, vt) * inv_mt
+    scale, shape = friction_slope(ct, vt)
+    rate = scene.dt * ct.mu * scale * fn * shape * inv_mt
     return float(rate.max())
 
 
@@ -243,16 +244,16 @@ def normal_force(ct, depth, vn):
 
 
 def friction_slope(ct, v):
-    """d(shape)/dv (s/m) of each friction family's shape at slip v: Ft = -mu Fn shape(v). The
-    bare sign's is infinite at zero slip (no explicit step is stable there) and 0 elsewhere."""
+    """(scale s/m, shape (-)) of each friction family's slope at slip v, d(shape)/dv = scale *
+    shape, Ft = -mu Fn shape(v): tanh alpha and sech^2(alpha v); the bare sign's is infinite at
+    zero slip (no explicit step is stable there) and 0 elsewhere."""
     if ct.friction_law == "tanh":
-        return ct.alpha * (1.0 - np.tanh(ct.alpha * v) ** 2)
+        return ct.alpha, 1.0 - np.tanh(ct.alpha * v) ** 2
     if ct.friction_law == "ramp":
-        return np.where(np.abs(ct.alpha * v) < 1.0, ct.alpha, 0.0)
+        return ct.alpha, np.where(np.abs(ct.alpha * v) < 1.0, 1.0, 0.0)
     if ct.friction_law == "smooth_coulomb":
-        e2 = 1.0 / ct.alpha ** 2
-        return e2 / (v * v + e2) ** 1.5
-    return np.where(v == 0.0, np.inf, 0.0)
+        return ct.alpha, (1.0 + (ct.alpha * v) ** 2) ** -1.5
+    return 1.0, np.where(v == 0.0, np.inf, 0.0)
 
 
 def _reason(row: dict, steps: int) -> str:
