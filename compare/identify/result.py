@@ -129,12 +129,15 @@ INERTIA_RTOL = 1e-9
 
 
 def _same_inertia(body: dict, scene) -> bool:
-    """The inertia found is the scene's (the oracle's geometry), or, where none was fitted, the
-    scene's own inertia reproduced the torques to round-off."""
+    """The scene's own inertia reproduces the torques to round-off (the file's rounding included),
+    or the inertia found is the scene's (the oracle's geometry) where the scene's law does not
+    reproduce them (another law: the torques then say nothing of the scene's inertia alone)."""
     from compare.oracle.rigid_body import rigid_body
 
+    if body["scene_relative"] <= 1.0:
+        return True
     found = body.get("inertia")
     if found is None or not math.isfinite(found):
-        return bool(body["scene_relative"] <= 1.0)
+        return False
     want = rigid_body(scene.body).inertia if rigid_body(scene.body).rotates else 0.0
     return abs(found - want) <= INERTIA_RTOL * max(abs(want), np.finfo(float).tiny)
