@@ -108,3 +108,23 @@ def test_the_same_code_with_one_mistake_fails_under_its_own_law(tmp_path, capsys
     scene = short_scene(tmp_path, "box_drop", 0.6)
     status, said, _ = run(tmp_path, capsys, scene, "--sim", f"{broken}:step", "--law", "examples/laws/hunt_crossley.toml")
     assert status == 1 and "FAIL" in said.out, said.out
+
+
+OUTSIDER = "tests/outsiders/rk4_smooth_unclamped.py"
+
+
+def test_an_outsiders_law_is_identified_and_its_code_judged_under_it(tmp_path, capsys):
+    """Another style (RK4, a dict state, tuples back) and another law (unclamped, c = 15 N s/m;
+    smooth Coulomb, eps = 0.02 m/s): identified, passing under it, and told which effects differ."""
+    assert main(["identify", f"{OUTSIDER}:step", "point_drop", "--json"]) == 1
+    found = json.loads(capsys.readouterr().out)
+    assert (found["integrator"]["name"], found["normal"]["law"], found["friction"]["law"]) == \
+        ("rk4", "unclamped", "smooth_coulomb")
+    assert close(found["normal"]["c"], 15.0) and close(found["friction"]["alpha"], 50.0)
+    scene = short_scene(tmp_path, "point_drop", 0.6)
+    status, said, _ = run(tmp_path, capsys, scene, "--sim", f"{OUTSIDER}:step", "--law", "identified")
+    assert status == 0, said.out
+    status, said, _ = run(tmp_path, capsys, scene, "--sim", f"{OUTSIDER}:step")
+    assert status == 1
+    assert "law   your normal force is unclamped (k 10000 N/m, c 15 N s/m)" in said.out, said.out
+    assert "law   your friction is smooth_coulomb (mu 0.5, alpha 50 s/m)" in said.out, said.out
