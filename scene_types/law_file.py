@@ -51,6 +51,16 @@ def _parameters(laws: dict) -> set[str]:
     return taken
 
 
+def without_untaken(table: dict, keep=()) -> dict:
+    """A [contact] table without the parameters its families do not take (a study that varies
+    friction_law to sign drops the file's alpha), except those named in `keep` (set on purpose:
+    then the loader's error says they do not belong)."""
+    laws = {field: table.get(field, name) for field, name in SEED_LAW.items()}
+    taken = _parameters(laws)
+    every = {p for families in LAW_PARAMETERS.values() for params in families.values() for p in params}
+    return {key: value for key, value in table.items() if key not in every or key in taken or key in keep}
+
+
 def with_law(scene: Scene, contact: Contact | dict, law_from: str) -> Scene:
     """The scene under another law: a Contact (an identified law) as it is, or a law file's
     table laid over the scene's [contact] (its errors name `law_from`, the file). The scene's

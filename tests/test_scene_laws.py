@@ -89,3 +89,17 @@ def test_run_refuses_a_bad_law_file_and_writes_nothing(tmp_path, capsys, text, f
 def test_law_identified_needs_a_simulator_under_test(tmp_path, capsys):
     assert main(["run", "box_slide", "--law", "identified", "--out", str(tmp_path / "o")]) == 2
     assert "--law identified: expected --sim" in capsys.readouterr().err
+
+
+def test_a_study_may_vary_a_family_and_the_old_familys_parameters_fall_away():
+    from compare.study.fields import SceneSource, parse_vary
+    from compare.scenarios import builtin_paths
+
+    source = SceneSource.read(next(p for p in builtin_paths() if p.stem == "box_slide"))
+    sign = source.varied([parse_vary("contact.friction_law=sign")], ("sign",))
+    assert (sign.contact.friction_law, sign.contact.alpha) == ("sign", None)
+    ramp = source.varied([parse_vary("contact.friction_law=ramp")], ("ramp",))
+    assert (ramp.contact.friction_law, ramp.contact.alpha) == ("ramp", source.scene.contact.alpha)
+    hc = source.varied([parse_vary("contact.damping_law=hunt_crossley"), parse_vary("contact.dissipation=1,2")],
+                       ("hunt_crossley", 2.0))
+    assert (hc.contact.damping_law, hc.contact.dissipation, hc.contact.c) == ("hunt_crossley", 2.0, 0.0)

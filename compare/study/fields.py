@@ -22,6 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from custom_sim import Scene, SceneError, parse_scene
+from scene_types.law_file import without_untaken
+from scene_types.laws import SEED_LAW
 
 from scene_types import BadInput
 
@@ -189,6 +191,10 @@ class SceneSource:
         data = self.data
         for vary, value in zip(varies, values):
             data = set_field(data, vary, value, self.scene)
+        if any(v.path[:1] == ("contact",) and v.path[-1] in SEED_LAW for v in varies) and "contact" in data:
+            # another family: the file's parameters only the old one took fall away (not those varied)
+            kept = {v.path[-1] for v in varies if v.path[:1] == ("contact",)}
+            data = {**data, "contact": without_untaken(data["contact"], kept)}
         try:
             return parse_scene(data, file=self.file, default_name=self.stem)
         except SceneError as exc:
