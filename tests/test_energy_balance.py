@@ -386,3 +386,18 @@ def test_mujocos_balance_from_its_states_is_its_balance_row_by_row(name):
     assert np.max(np.abs(fast.R - rows.R)) < bound, (np.max(np.abs(fast.R - rows.R)), bound)
     reading = float(np.max(np.abs(fast.E - rows.E)))   # the two depths' stored energies
     assert abs(fast.W[-1].sum() - rows.W[-1].sum()) < reading + bound
+
+
+def test_mujocos_rk4_balance_is_not_measured_from_its_states():
+    """RK4's stage forces are not in MuJoCo's states: R is null with the reason, never a
+    quadrature's error shown as the integrator's."""
+    from compare.energy.mujoco_side import native_from_run
+    from mujoco_models import simulate_mujoco
+
+    scene = dataclasses.replace(load("spinning_box"), duration=0.3)
+    run = simulate_mujoco(scene)
+    assert run.integrator == "RK4"
+    b = native_from_run(scene, run.t, run.states(), run.integrator, scene.mujoco.solref)
+    block = metrics_block(b)
+    assert block["residual_end"] is None and block["residual_max"] is None
+    assert b.rule.startswith("not measured") and math.isfinite(block["delta_E"])

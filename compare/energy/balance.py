@@ -79,9 +79,10 @@ def balance(scene: Scene, t, states, integrator: str | None = None) -> Balance:
 def metrics_block(b: Balance) -> dict:
     """The metrics.json block of one trajectory (J): delta_E = E(end) - E(0), the work
     dissipated per effect, R at the end and its largest magnitude."""
+    measured = bool(np.all(np.isfinite(b.R)))   # None where the balance could not be measured (b.rule says why)
     return {
         "delta_E": float(b.E[-1] - b.E[0]),
         "dissipated": {name: float(b.W[-1, i]) + 0.0 for i, name in enumerate(EFFECTS)},  # + 0.0: no -0.0
-        "residual_end": float(b.R[-1]),
-        "residual_max": float(np.max(np.abs(b.R))),
+        "residual_end": float(b.R[-1]) if measured else None,
+        "residual_max": float(np.max(np.abs(b.R))) if measured else None,
     }

@@ -182,9 +182,10 @@ FROM_STATES_RULES = {
     "Euler": "MuJoCo's native contact, Euler, from its states: the constraint's generalized force "
              "M (v1 - v0) / h + m g (exact for Euler with the hinge at the centre of mass) on the step's "
              "displacement h v1",
-    "RK4": "MuJoCo's native contact, RK4, from its states: the step's mean constraint force M (v1 - v0) / h "
-           "+ m g on the trapezoid displacement h (v0 + v1) / 2 (RK4's stages are not in the states: "
-           "a quadrature error of order h^2 per step stays in R)",
+    "RK4": "not measured for MuJoCo's RK4 from its states: its four stages' constraint forces are not in "
+           "them, and a quadrature in their place would put its own error into R (W shown is the step's mean "
+           "constraint force M (v1 - v0) / h + m g on h (v0 + v1) / 2; native_balance steps the stages row by "
+           "row, 8 s a scene)",
 }
 SPLIT_RULE = ("; split by effect at the touching points' mean arm (friction: the horizontal force on the "
               "slip there; rolling: the torque the point forces leave, circle only; damping: the rest)")
@@ -236,5 +237,5 @@ def native_from_run(scene: Scene, t: np.ndarray, states: np.ndarray, mujoco_inte
         rolling = -h * torque * moving[:, 2]
     W[1:] = np.cumsum(np.column_stack([total - friction - rolling, friction, rolling]), axis=0)
     rule = FROM_STATES_RULES[name] + SPLIT_RULE + SPRING_RULES[mapping == "penalty"]
-    return Balance(np.asarray(t, float), E, W, E - E[0] + W.sum(axis=1), rule, f"mujoco {mujoco_integrator}",
-                   np.zeros(6))
+    R = E - E[0] + W.sum(axis=1) if name == "Euler" else np.full(len(E), np.nan)   # RK4: not measured
+    return Balance(np.asarray(t, float), E, W, R, rule, f"mujoco {mujoco_integrator}", np.zeros(6))
