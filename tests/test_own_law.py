@@ -74,8 +74,8 @@ def run(tmp_path, capsys, *argv):
     return status, capsys.readouterr(), out
 
 
-EXAMPLES = [("examples/hunt_crossley_sim.py", "box_drop", 0.6, "normal", "hunt_crossley",
-             "examples/laws/hunt_crossley.toml"),
+EXAMPLES = [pytest.param("examples/hunt_crossley_sim.py", "box_drop", 0.6, "normal", "hunt_crossley",
+                         "examples/laws/hunt_crossley.toml", marks=pytest.mark.slow),
             ("examples/stiction_ramp_sim.py", "box_slide", 1.0, "friction", "ramp",
              "examples/laws/stiction_ramp.toml")]
 
@@ -99,7 +99,8 @@ def test_an_example_passes_under_its_own_law_and_is_named_under_the_seeds(tmp_pa
 
 
 @pytest.mark.parametrize("wrong, right", [("(1.0 - DISSIPATION * normal_velocity)", "(1.0 + DISSIPATION * normal_velocity)"),
-                                          ("np.maximum(0.0, ct[\"k\"]", "np.maximum(0.0, 1.01 * ct[\"k\"]")])
+                                          pytest.param("np.maximum(0.0, ct[\"k\"]", "np.maximum(0.0, 1.01 * ct[\"k\"]",
+                                                       marks=pytest.mark.slow)])
 def test_the_same_code_with_one_mistake_fails_under_its_own_law(tmp_path, capsys, wrong, right):
     text = open("examples/hunt_crossley_sim.py").read()
     assert wrong in text

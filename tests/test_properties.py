@@ -133,6 +133,7 @@ def at_a_stable_step(scene, integrator):
 BY_INTEGRATOR = METHODS
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("integrator", BY_INTEGRATOR)
 @EXAMPLES
 @given(drops())
