@@ -333,17 +333,14 @@ def parse_contact(v: _Validator, c: dict) -> Contact:
     laws = {"damping_law": v.choice(c, "damping_law", DAMPING_LAWS, d.damping_law, "contact."),
             "friction_law": v.choice(c, "friction_law", FRICTION_LAWS, d.friction_law, "contact."),
             "roll_law": v.choice(c, "roll_law", ROLL_LAWS, d.roll_law, "contact.")}
-    taken = set()
-    for field, name in laws.items():
-        taken |= set(LAW_PARAMETERS[field][name])
-    for field, name in laws.items():
-        for family, params in LAW_PARAMETERS[field].items():
-            for param in params:
-                if param in c and param not in taken:
-                    users = sorted(f for f, p in LAW_PARAMETERS[field].items() if param in p)
-                    raise SceneError(v.file, f"contact.{param}",
-                                     f"is not a parameter of {field} = '{name}' (expected it only with "
-                                     f"{field} = {' | '.join(users)}; remove it or change the law)")
+    taken = {param for law, name in laws.items() for param in LAW_PARAMETERS[law][name]}
+    for law, name in laws.items():
+        for param in sorted({p for params in LAW_PARAMETERS[law].values() for p in params}):
+            if param in c and param not in taken:
+                users = sorted(family for family, params in LAW_PARAMETERS[law].items() if param in params)
+                raise SceneError(v.file, f"contact.{param}",
+                                 f"is not a parameter of {law} = '{name}' (expected it only with "
+                                 f"{law} = {' | '.join(users)}; remove it or change the law)")
     if laws["damping_law"] == "hunt_crossley" and "dissipation" not in c:
         raise SceneError(v.file, "contact.dissipation",
                          "is required by damping_law = 'hunt_crossley' (expected the dissipation in s/m, "
