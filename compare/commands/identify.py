@@ -35,9 +35,10 @@ def add_arguments(parser) -> None:
 
 
 def _one_line(exc) -> None:
-    """Bad input without the user's traceback: identify answers in one line."""
+    """Bad input without the user's traceback: identify answers in one line (naming the
+    MODULE:FUNCTION it was given, which `run` calls --sim)."""
     from scene_types import BadInput
-    raise BadInput(str(exc)) from None
+    raise BadInput(str(exc).removeprefix("--sim ")) from None
 
 
 def main(args) -> int:
