@@ -33,8 +33,9 @@ def folder() -> Path | None:
 
 @functools.lru_cache(maxsize=1)
 def code_version() -> str:
-    """A digest of the sources of the four packages and the versions of the libraries that
-    compute (an edit anywhere in the harness, or a new MuJoCo, starts a new cache)."""
+    """A digest of the sources of the four packages, read where they are imported from, and the
+    versions of the libraries that compute (an edit anywhere in the harness, a copy of custom_sim
+    with a mistake put in, or a new MuJoCo starts a new cache)."""
     import mujoco
     import numba
     import numpy
@@ -42,11 +43,11 @@ def code_version() -> str:
 
     digest = hashlib.sha256(repr((mujoco.__version__, numpy.__version__, scipy.__version__,
                                   numba.__version__)).encode())
-    root = Path(__file__).resolve().parents[1]
-    for package in PACKAGES:
-        for path in sorted((root / package).rglob("*.py")):
-            digest.update(str(path.relative_to(root)).encode())
-            digest.update(path.read_bytes())
+    for package in PACKAGES:   # where each package is imported from: a mutated copy is another code
+        for base in importlib.import_module(package).__path__:
+            for path in sorted(Path(base).rglob("*.py")):
+                digest.update(f"{package}/{path.relative_to(base)}".encode())
+                digest.update(path.read_bytes())
     return digest.hexdigest()[:16]
 
 

@@ -65,3 +65,27 @@ def test_run_says_where_the_scene_only_work_came_from(cache_on, tmp_path, capsys
     assert said[0][0].startswith("cache: 0 of ") and "0 of 1 scenarios wholly" in said[0][0], said
     assert "1 of 1 scenarios wholly" in said[1][0], said
     assert said[2] == ["cache: off (scene-only work computed)"], said
+
+
+def test_a_mutated_copy_of_custom_sim_is_another_code(tmp_path):
+    """The key covers the sources where they are imported from: a copy of custom_sim with one
+    mistake put in (the mutation test's) never reads the original's results."""
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    shutil.copytree(root / "custom_sim", tmp_path / "custom_sim", ignore=shutil.ignore_patterns("__pycache__"))
+    forces = tmp_path / "custom_sim" / "forces.py"
+    forces.write_text(forces.read_text() + "\n# a mistake put in\n")
+    probe = "from compare.store import code_version; import custom_sim; print(code_version(), custom_sim.__file__)"
+
+    def version(cwd):
+        out = subprocess.run([sys.executable, "-c", probe], cwd=cwd, capture_output=True, text=True, check=True,
+                             env={**__import__("os").environ, "PYTHONPATH": str(root)})
+        return out.stdout.split()
+
+    original, mutated = version(root), version(tmp_path)
+    assert mutated[1].startswith(str(tmp_path)), mutated   # the copy is what runs
+    assert original[0] != mutated[0]

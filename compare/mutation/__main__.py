@@ -46,7 +46,8 @@ def run_mutant(mistake: Mistake, scenes: list[str]) -> dict:
         mutated_copy(mistake, folder)
         out = folder / "report"
         # cwd first on sys.path: the mutated custom_sim; compare and mujoco_models from the repository
-        env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_DIR": str(folder / "numba")}
+        env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_DIR": str(folder / "numba"),
+               "CONTACT_HARNESS_CACHE": "off"}   # every mutant computed: nothing of the original's reused
         start = time.perf_counter()
         proc = subprocess.run([sys.executable, "-m", "compare", "run", *scenes, "--out", str(out), "--jobs", "1"],
                               cwd=folder, env=env, capture_output=True, text=True, timeout=RUN_TIMEOUT)
