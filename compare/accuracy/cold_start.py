@@ -1,14 +1,15 @@
 """What a first run costs: numba compiling the simulator, apart from the run itself.
 
 Each figure comes from a fresh Python process with NUMBA_CACHE_DIR pointing at a folder of its
-own, so nothing compiled earlier on the machine is reused:
+own, and the cache of scene-only work (compare/store.py) beside it, so nothing compiled or
+computed earlier on the machine is reused:
 
     compile      the simulator compiled into an empty cache in one process (10 steps of
                  box_drop with each integrator, and the blow-up check a MuJoCo trajectory goes
                  through: everything of custom_sim that `run` compiles)
-    run, warm    `python -m compare run SCENES` once that cache is full
-    first run    `python -m compare run SCENES` on another empty cache: what a new user waits
-    second run   the same command again, its cache now full
+    run, warm    `python -m compare run SCENES` once that compile is cached (no scene-only work yet)
+    first run    `python -m compare run SCENES` on other empty caches: what a new user waits
+    second run   the same command again, both caches now full
 
 Wall time is what a user waits; CPU time (user + system, all the processes of the command)
 is what the machine spent, and moves less with other load. The load average is printed with
@@ -52,8 +53,10 @@ class Timed:
 
 
 def timed(command: list[str], cwd: Path, cache: str) -> Timed:
-    """Run command in cwd with NUMBA_CACHE_DIR = cache; its wall and CPU time."""
-    env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(cwd)}
+    """Run command in cwd with NUMBA_CACHE_DIR = cache and the cache of scene-only work beside it
+    (compare/store.py: a first run on a fresh machine has neither); its wall and CPU time."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(cwd),
+           "CONTACT_HARNESS_CACHE": os.path.join(cache, "results")}
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     proc = subprocess.run(command, cwd=cwd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
