@@ -5,6 +5,7 @@ and the numeric libraries' versions). A user's simulator is never cached: only w
 alone decides, so a rerun after editing one's own simulator recomputes only that.
 
     cached(fn)(*args)        fn(*args), from the cache when the same call ran before
+    trim()                   keep it within CACHE_BYTES, least recently used out first
     CACHE_ENV                the folder (default ~/.cache/contact-sim-harness); "off" disables it
 """
 from __future__ import annotations
@@ -16,6 +17,9 @@ import os
 from pathlib import Path
 
 CACHE_ENV = "CONTACT_HARNESS_CACHE"
+# A run of the seven built-ins keeps about 260 MB (a trajectory of 40,000 steps is 3 MB); the
+# least recently used entries go beyond this, so an edit of the harness does not pile up copies
+CACHE_BYTES = 1_000_000_000
 PACKAGES = ("scene_types", "custom_sim", "mujoco_models", "compare")
 _counts = {"hits": 0, "misses": 0}
 
@@ -86,6 +90,13 @@ def cached(fn):
             _counts["hits"] += 1
         return out
     return call
+
+
+def trim() -> None:
+    """Keep the cache within CACHE_BYTES, the least recently used entries going first."""
+    memory = _memory()
+    if memory is not None:
+        memory.reduce_size(bytes_limit=CACHE_BYTES)
 
 
 def counts() -> dict:

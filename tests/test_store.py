@@ -89,3 +89,13 @@ def test_a_mutated_copy_of_custom_sim_is_another_code(tmp_path):
     original, mutated = version(root), version(tmp_path)
     assert mutated[1].startswith(str(tmp_path)), mutated   # the copy is what runs
     assert original[0] != mutated[0]
+
+
+def test_the_cache_is_trimmed_to_its_limit(cache_on, monkeypatch):
+    scene = dataclasses.replace(load("point_drop"), duration=0.2)
+    judged(scene)
+    size = sum(p.stat().st_size for p in cache_on.rglob("*") if p.is_file())
+    assert size > 100_000
+    monkeypatch.setattr(store, "CACHE_BYTES", size // 4)
+    store.trim()
+    assert sum(p.stat().st_size for p in cache_on.rglob("*") if p.is_file()) <= size // 4
