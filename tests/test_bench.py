@@ -78,3 +78,24 @@ def test_bench_table_and_linearity(capsys):
 def test_bench_rejects_an_unknown_scene(capsys):
     assert main(["bench", "no_such_scene"]) == 2
     assert "unknown scenario" in capsys.readouterr().err
+
+
+# The floor and custom_sim step the same law with the same method, in another order of
+# operations: their states part by round-off, which a smooth motion keeps near eps per step
+FLOOR_AGREEMENT = 1e-9   # m, m/s, rad over a few thousand steps
+
+
+@pytest.mark.parametrize("name", ["box_slide", "point_drop", "rolling_circle", "elastic_bounce"])
+def test_the_minimal_loop_steps_the_same_law_as_custom_sim(name):
+    """bench's floor is only a floor of the same work: its run ends where custom_sim's does."""
+    import dataclasses
+
+    from compare.accuracy import minimal_loop
+    from compare.scenarios import load
+    from custom_sim import simulate
+
+    scene = dataclasses.replace(load(name), duration=0.4)
+    assert minimal_loop.applies(scene)
+    floor = minimal_loop.runner(scene)()
+    ours = simulate(scene).states()[-1]
+    assert np.max(np.abs(floor - ours)) < FLOOR_AGREEMENT, (floor, ours)

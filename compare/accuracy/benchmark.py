@@ -42,6 +42,8 @@ from pathlib import Path
 import numpy as np
 
 from custom_sim import Scene, Stepper
+
+from . import minimal_loop
 from custom_sim.integrators import NEWTON_ITERS
 
 ROOT = Path(__file__).resolve().parents[2]   # the repository (for git revisions)
@@ -72,6 +74,7 @@ class BenchResult:
     newton_per_step: float = 0.0                 # Newton iterations per step (implicit Euler)
     ns_per_step_before: float | None = None      # ours as of the revision given to bench_scene
     ns_per_step_before_wall: float | None = None
+    ns_per_step_minimal: float | None = None     # the floor: one minimal compiled loop of the law (minimal_loop.py)
 
     @property
     def ratio(self) -> float:
@@ -211,9 +214,12 @@ def bench_scene(scene: Scene, rounds: int = ROUNDS, before=None, **timing) -> Be
     steps_mj = max(1, int(round(scene.duration / dt_mj)))
     ours = theirs = old = Timing(np.inf, np.inf)
     loops = {}
+    floor = np.inf
     for _ in range(max(1, rounds)):
         t = custom_ns_per_step(scene, **timing)
         ours = Timing(min(ours.cpu, t.cpu), min(ours.wall, t.wall))
+        if minimal_loop.applies(scene):
+            floor = min(floor, 1e9 * min_time(minimal_loop.runner(scene), **timing).cpu / scene.steps)
         if before is not None:
             t = custom_ns_per_step(scene, stepper=before.Stepper, **timing)
             old = Timing(min(old.cpu, t.cpu), min(old.wall, t.wall))
@@ -226,7 +232,8 @@ def bench_scene(scene: Scene, rounds: int = ROUNDS, before=None, **timing) -> Be
                        scene.integrator, scene.mujoco.integrator, scene.dt, dt_mj,
                        newton_per_step=newton_per_step(scene),
                        ns_per_step_before=None if before is None else old.cpu,
-                       ns_per_step_before_wall=None if before is None else old.wall)
+                       ns_per_step_before_wall=None if before is None else old.wall,
+                       ns_per_step_minimal=None if floor == np.inf else floor)
 
 
 @dataclass(frozen=True)
