@@ -294,12 +294,11 @@ def held_impact_limit(scene: Scene, bound: float, rate_per_newton: float) -> flo
     h_peak = bound / (rate_per_newton * loads[0])
     ratio = 1.0025
     with np.errstate(over="ignore"):                 # a huge h_peak: its ladder reaches inf, harmlessly
-        ladder = h_peak * ratio ** np.arange(2800)   # up to 1e3 h_peak, 0.25 % apart
-    for h in ladder:
-        crit = bound / (rate_per_newton * h)
-        above = np.searchsorted(-loads, -crit, side="right") * dt_profile
-        if above >= CHATTER_STEPS * h:
-            return float(h / ratio)
+        for h in h_peak * ratio ** np.arange(2800):  # up to 1e3 h_peak, 0.25 % apart
+            crit = bound / (rate_per_newton * h)
+            above = np.searchsorted(-loads, -crit, side="right") * dt_profile
+            if above >= CHATTER_STEPS * h:
+                return float(h / ratio)
     return math.inf
 
 
