@@ -150,7 +150,17 @@ def _close_local() -> None:
     _LOCAL.clear()
 
 
-class Engine:
+class _Closing:
+    """`with engine:` closes it at the end (each engine has its own close)."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+class Engine(_Closing):
     """A Dask client on a local or remote cluster (see the module docstring)."""
 
     def __init__(self, scheduler: str | None = None, workers: int | None = None,
@@ -190,12 +200,6 @@ class Engine:
         engine and is closed at exit."""
         if self.cluster is None:
             self.client.close()
-
-    def __enter__(self) -> Engine:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
 
     def run(self, fn: Callable, tasks: list[Task], desc: str = "tasks", store: Store | None = None,
             split: Callable[[Task], list[Task]] | None = None,
@@ -282,7 +286,7 @@ def _reason(future) -> str:
     return f"{name}: {exc}"
 
 
-class PoolEngine:
+class PoolEngine(_Closing):
     """Engine.run without Dask: tasks on `workers` local processes (default: every core), each a
     pool of its own holding one task at a time, started fresh (spawn, as Dask's local cluster
     does) and closed by close(). As on Dask, a worker that dies loses only the task it was
@@ -318,12 +322,6 @@ class PoolEngine:
     def close(self) -> None:
         for i in range(len(self._lanes)):
             self._drop(i)
-
-    def __enter__(self) -> PoolEngine:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
 
     def run(self, fn: Callable, tasks: list[Task], desc: str = "tasks", store: Store | None = None,
             split: Callable[[Task], list[Task]] | None = None,

@@ -43,14 +43,17 @@ def is_seed_law(contact) -> bool:
     return all(getattr(contact, field) == name for field, name in SEED_LAW.items())
 
 
+def effect_texts(contact) -> dict[str, str]:
+    """Each effect's family and parameters in words: {"normal": "linear (k 1e+04 N/m, c 20 N s/m)", ...}."""
+    normal = (f"dissipation {contact.dissipation:g} s/m" if contact.damping_law == "hunt_crossley"
+              else f"c {contact.c:g} N s/m")
+    friction = f", alpha {contact.alpha:g} s/m" if contact.alpha is not None else ""
+    rolling = f", roll_sharpness {contact.roll_sharpness:g} s/rad" if contact.roll_sharpness is not None else ""
+    return {"normal": f"{contact.damping_law} (k {contact.k:g} N/m, {normal})",
+            "friction": f"{contact.friction_law} (mu {contact.mu:g}{friction})",
+            "rolling": f"{contact.roll_law} (mu_roll {contact.mu_roll:g} m{rolling})"}
+
+
 def law_text(contact) -> str:
     """One line naming a [contact]'s three laws and their parameters, for pages and messages."""
-    parts = [f"normal {contact.damping_law} (k {contact.k:g} N/m, "
-             + (f"dissipation {contact.dissipation:g} s/m)" if contact.damping_law == "hunt_crossley"
-                else f"c {contact.c:g} N s/m)"),
-             f"friction {contact.friction_law} (mu {contact.mu:g}"
-             + (f", alpha {contact.alpha:g} s/m)" if contact.alpha is not None else ")"),
-             f"rolling {contact.roll_law} (mu_roll {contact.mu_roll:g} m"
-             + (f", roll_sharpness {contact.roll_sharpness:g} s/rad)" if contact.roll_sharpness is not None
-                else ")")]
-    return "; ".join(parts)
+    return "; ".join(f"{effect} {text}" for effect, text in effect_texts(contact).items())

@@ -103,3 +103,29 @@ def test_a_study_may_vary_a_family_and_the_old_familys_parameters_fall_away():
     hc = source.varied([parse_vary("contact.damping_law=hunt_crossley"), parse_vary("contact.dissipation=1,2")],
                        ("hunt_crossley", 2.0))
     assert (hc.contact.damping_law, hc.contact.dissipation, hc.contact.c) == ("hunt_crossley", 2.0, 0.0)
+
+
+FORCE_ROUNDOFF = 1e-12   # relative: two codes evaluating the same friction, a dozen roundings apart
+
+
+def test_a_law_that_differs_by_round_off_is_not_said_to_differ():
+    """The page names an effect only where the two laws' forces differ beyond round-off over the
+    run: a fitted mu off by 1e-13 is the scene's, one off by 1 % is named with its newtons."""
+    import dataclasses
+
+    from compare.verdict.law_difference import law_differences
+    from custom_sim import simulate
+
+    scene = dataclasses.replace(load("box_slide"), duration=0.3)
+    run = simulate(scene)
+    ct = scene.contact
+    same = with_law(scene, dataclasses.replace(ct, mu=ct.mu * (1 + 1e-13)), "identified")
+    assert law_differences(same, run.t, run.states()) == []
+    other = with_law(scene, dataclasses.replace(ct, mu=ct.mu * 1.01), "identified")
+    [row] = law_differences(other, run.t, run.states())
+    # friction is linear in mu: 1 % of the scene law's friction at that step, read through the
+    # energy package's own law (another implementation than the oracle's the page uses)
+    from compare.energy.law import body_of, loads
+    ft = loads(scene, body_of(scene), run.states()[row["step"]][None, :]).ft.sum()
+    assert row["effect"] == "friction"
+    assert abs(row["force"][0] - 0.01 * ft) < FORCE_ROUNDOFF * abs(ft), (row["force"][0], 0.01 * ft)

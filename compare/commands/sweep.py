@@ -268,7 +268,7 @@ EXPECTED_ORDER = {"explicit_euler": 1, "semi_implicit_euler": 1, "implicit_euler
 ORDER_SLACK = 0.3   # a fitted slope this far below the order means something lowers it
 ORDER_POINTS = 3    # the finest steps: the asymptotic regime, where the order shows
 ROUNDOFF_ULPS = 10  # each step's energy sum rounds by a few eps of the energy: below 10 eps a step, R is round-off
-EPS = 2.220446049250313e-16
+EPS = 2.220446049250313e-16   # numpy.finfo(float).eps, written out: this module imports numpy lazily
 
 
 def residual_order(runs, floor: float = 0.0) -> float:

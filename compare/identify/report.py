@@ -31,7 +31,7 @@ def _g(x, unit: str = "") -> str:
     return "–" if x is None else (f"{x:.10g} {unit}".rstrip())
 
 
-def _params(entry: dict, effect: str) -> str:
+def params_text(entry: dict, effect: str) -> str:
     parts = []
     for p in PARAMS[effect]:
         v = entry.get(p)
@@ -53,13 +53,13 @@ def _effect_line(result: dict, effect: str) -> str:
         return f"  {effect:<11} not exercised: {e.get('why', '')}"
     unit = RESIDUAL_UNIT[effect]
     if e["law"] is not None:
-        text = (f"{e['law']} ({_params(e, effect)})" if _params(e, effect) else e["law"])
+        text = (f"{e['law']} ({params_text(e, effect)})" if params_text(e, effect) else e["law"])
         text += f"; residual {e['residual']:.2g} {unit} = {e['relative']:.2g} of round-off"
         if e.get("also_fit"):
             text += f"; equally: {', '.join(e['also_fit'])}"
     else:
         c = e.get("closest", {})
-        text = (f"no family fits; closest {c.get('law')} ({_params(c, effect)}), residual "
+        text = (f"no family fits; closest {c.get('law')} ({params_text(c, effect)}), residual "
                 f"{c.get('residual', float('nan')):.3g} {unit} = {c.get('relative', float('nan')):.3g} x round-off")
     if not e.get("exercised", True):
         text += f" (not exercised: {e.get('why', '')})"

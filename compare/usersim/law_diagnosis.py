@@ -2,9 +2,10 @@
 law is another family (or other parameters) than the scene's, found by `identify`."""
 from __future__ import annotations
 
-from scene_types import Scene, law_text
+from scene_types import Scene
+from scene_types.laws import effect_texts
 
-from ..identify.report import _params
+from ..identify.report import params_text
 
 FIELD = {"normal": "damping_law", "friction": "friction_law", "rolling": "roll_law"}
 WORDS = {"normal": "normal force", "friction": "friction", "rolling": "rolling resistance"}
@@ -28,16 +29,14 @@ def law_findings(simulator, scene: Scene, states, rounding=None, probe: bool = T
     if result["integrator"]["name"] != declared or any(result["matches_scene"].get(part) is False
                                                         for part in ("body", "gravity")):
         return []   # the forces are read through the body and the step: a law read through wrong ones says nothing
-    asked = {"normal": law_text(scene.contact).split("; ")[0].removeprefix("normal "),
-             "friction": law_text(scene.contact).split("; ")[1].removeprefix("friction "),
-             "rolling": law_text(scene.contact).split("; ")[2].removeprefix("rolling ")}
+    asked = effect_texts(scene.contact)
     out = []
     for effect, field in FIELD.items():
         if result["matches_scene"].get(effect) is not False:
             continue
         e = result[effect]
         if e.get("law") is not None:
-            found = f"{e['law']} ({_params(e, effect)})"
+            found = f"{e['law']} ({params_text(e, effect)})"
             text = f"your {WORDS[effect]} is {found}, the scene asks {asked[effect]}"
         else:
             c = e.get("closest", {})

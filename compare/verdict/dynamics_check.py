@@ -216,6 +216,8 @@ def friction_step_number(scene: Scene, states: np.ndarray) -> float:
         return 0.0
     from mujoco_models.rigid_body import rigid_body
 
+    from ..energy.law import normal_law
+
     rb = rigid_body(scene.body)
     ct = scene.contact
     x, y, th, vx, vy, om = (states[:, j][:, None] for j in range(6))
@@ -224,23 +226,11 @@ def friction_step_number(scene: Scene, states: np.ndarray) -> float:
     rx, ry = c * lx - s * ly, s * lx + c * ly
     depth = -(y + ry)
     vn, vt = vy + om * rx, vx - om * ry
-    fn = np.where(depth > 0.0, normal_force(ct, depth, vn), 0.0)
+    fn = np.where(depth > 0.0, normal_law(ct, depth, vn), 0.0)
     inv_mt = 1.0 / rb.mass + (ry * ry / rb.inertia if rb.rotates else 0.0)
     scale, shape = friction_slope(ct, vt)
     rate = scene.dt * ct.mu * scale * fn * shape * inv_mt
     return float(rate.max())
-
-
-def normal_force(ct, depth, vn):
-    """Fn (N) of each damping family at depth d (m) and normal velocity v_n (m/s), unclipped
-    by touching."""
-    if ct.damping_law == "compression":
-        return ct.k * depth + ct.c * np.maximum(0.0, -vn)
-    if ct.damping_law == "linear":
-        return np.maximum(0.0, ct.k * depth - ct.c * vn)
-    if ct.damping_law == "unclamped":
-        return ct.k * depth - ct.c * vn
-    return np.maximum(0.0, ct.k * depth * (1.0 - ct.dissipation * vn))
 
 
 def friction_slope(ct, v):
