@@ -24,7 +24,7 @@ HIDE = f"import sys\nfor _name in {EXTRAS!r}:\n    sys.modules[_name] = None\n"
 IMPORTS = """
 import json, sys
 import compare, compare.cli
-import compare.commands.run, compare.commands.sweep, compare.accuracy.workprecision, compare.executor
+import compare.commands.run, compare.commands.sweep, compare.tools.accuracy.workprecision, compare.executor
 compare.cli.build_parser()          # imports every command module, as `--help` does
 print(json.dumps(sorted(m for m in sys.modules if m.split(".")[0] in EXTRAS)))
 """
@@ -51,7 +51,7 @@ print(json.dumps(out))
 SWEEP_WITHOUT_DASK = """
 import dataclasses, json
 from compare import executor as engine
-from compare.accuracy.workprecision import run_sweep
+from compare.tools.accuracy.workprecision import run_sweep
 from compare.scenarios import load
 assert not engine.dask_available()
 seen = []
@@ -106,7 +106,7 @@ def test_sweep_without_dask_runs_on_the_process_pool_with_the_same_errors():
     computed, not timed, so they match bit for bit."""
     import dataclasses
 
-    from compare.accuracy.workprecision import custom_ladder, reference_task
+    from compare.tools.accuracy.workprecision import custom_ladder, reference_task
     from compare.scenarios import load
     from custom_sim import INTEGRATORS
 

@@ -39,3 +39,30 @@ def test_the_shared_types_import_no_side():
     for path in sorted((ROOT / "scene_types").glob("*.py")):
         extra = imported_packages(path) & {"custom_sim", "mujoco_models", "compare"}
         assert not extra, f"scene_types/{path.name} imports {sorted(extra)}"
+
+
+# the command modules of the tools: the only files outside compare/tools that may import them
+TOOL_COMMANDS = {"bench.py", "calibrate.py", "play.py", "solref.py", "study.py", "sweep.py"}
+
+
+def imported_modules(path: Path) -> set[str]:
+    """The absolute names of the modules a file imports (relative imports resolved)."""
+    package = ".".join(path.relative_to(ROOT).parent.parts)
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            found |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            base = package.split(".")[: len(package.split(".")) - node.level + 1] if node.level else []
+            found.add(".".join(base + ([node.module] if node.module else [])))
+    return found
+
+
+def test_the_checks_and_the_run_never_import_the_tools():
+    """compare/tools (sweep, bench, study, calibration, mutation, game) is off the run path."""
+    for path in sorted((ROOT / "compare").rglob("*.py")):
+        inside = path.relative_to(ROOT / "compare").parts
+        if inside[0] == "tools" or (inside[0] == "commands" and inside[-1] in TOOL_COMMANDS):
+            continue
+        tools = {m for m in imported_modules(path) if m == "compare.tools" or m.startswith("compare.tools.")}
+        assert not tools, f"{path.relative_to(ROOT)} imports {sorted(tools)}"

@@ -62,8 +62,8 @@ def ladder_table(results: list[tuple]) -> list[str]:
 
 
 def main(args) -> int:
-    from ..verdict.attribution import attribute
-    from ..verdict.contact_check import check_contact
+    from ..checks.attribution import attribute
+    from ..checks.contact_check import check_contact
 
     specs = list(args.scenes) or [str(p) for p in builtin_paths()]
     if args.stress:

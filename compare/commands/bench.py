@@ -48,7 +48,7 @@ def main(args) -> int:
     scenes = load_all(args.scenes)
     if args.cold:
         return cold(args)
-    from ..accuracy.benchmark import bench_scene, custom_sim_at, linearity
+    from ..tools.accuracy.benchmark import bench_scene, custom_sim_at, linearity
 
     try:
         before = custom_sim_at(args.against) if args.against else None
@@ -93,7 +93,7 @@ def cold(args) -> int:
     import tempfile
     from pathlib import Path
 
-    from ..accuracy import cold_start
+    from ..tools.accuracy import cold_start
 
     names = list(args.scenes)
     with tempfile.TemporaryDirectory() as work:

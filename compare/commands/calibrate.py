@@ -52,7 +52,7 @@ def _m(x) -> str:
 
 
 def main(args) -> int:
-    from ..calibration.parameters import base_mapping, parse_fit
+    from ..tools.calibration.parameters import base_mapping, parse_fit
 
     if args.max_iter < 1:
         raise BadInput(f"--max-iter: {args.max_iter} (expected a whole number >= 1)")
@@ -87,10 +87,10 @@ def main(args) -> int:
 
 
 def _run(args, fitted, held, params, base_mapping, out) -> int:
-    from ..calibration.report import write_calibration, write_reverse
+    from ..tools.calibration.report import write_calibration, write_reverse
 
     if args.reverse:
-        from ..calibration.reverse import prepare_reverse, reverse_fit
+        from ..tools.calibration.reverse import prepare_reverse, reverse_fit
 
         targets = [prepare_reverse(s, args.solref) for s in fitted]
         result = reverse_fit(targets, max_iter=args.max_iter)
@@ -101,7 +101,7 @@ def _run(args, fitted, held, params, base_mapping, out) -> int:
             print(f"{t.scene.name:<16} MuJoCo ({t.mapping}) ~ k = {ct.k * g[0]:.5g} N/m, c = {ct.c * g[1]:.5g} N s/m, "
                   f"mu = {ct.mu * g[2]:.4g}, alpha = {ct.alpha * g[3]:.4g} s/m")
     else:
-        from ..calibration.calibration import calibrate
+        from ..tools.calibration.calibration import calibrate
 
         cal = calibrate(fitted, held, params, base_mapping(params), args.max_iter, args.threads)
         result = cal.result

@@ -5,7 +5,7 @@
     python -m compare play --replay game.json                 # watch a recording in a window
     python -m compare play --replay game.json --video out.mp4 # render it without a screen (.mp4 or .gif)
     python -m compare play --replay game.json --headless      # print the outcome as one JSON line
-    python -m compare play --replay demo --video demo.mp4     # the shipped demo (compare/game/demo_goal.json)
+    python -m compare play --replay demo --video demo.mp4     # the shipped demo (compare/tools/game/demo_goal.json)
 
 --video needs the game extra (imageio, imageio-ffmpeg): pip install -e '.[game]'.
 
@@ -20,11 +20,11 @@ import sys
 from pathlib import Path
 
 EXIT_OK, EXIT_BAD_INPUT = 0, 2
-DEMO = Path(__file__).resolve().parent.parent / "game" / "demo_goal.json"
+DEMO = Path(__file__).resolve().parent.parent / "tools" / "game" / "demo_goal.json"
 
 
 def add_arguments(parser) -> None:
-    from compare.game.game import SUMMARY_KEYS
+    from compare.tools.game.game import SUMMARY_KEYS
 
     parser.epilog = "What --headless prints (one JSON object):\n" + "\n".join(
         f"  {key:<28} {text}" for key, text in SUMMARY_KEYS.items())
@@ -49,9 +49,9 @@ def _fail(message: str) -> int:
 
 
 def main(args) -> int:
-    from compare.game.engines import EngineUnavailable, make_engine
-    from compare.game.game import Game
-    from compare.game.recording import RecordingError, Replay, load
+    from compare.tools.game.engines import EngineUnavailable, make_engine
+    from compare.tools.game.game import Game
+    from compare.tools.game.recording import RecordingError, Replay, load
 
     if (args.video or args.headless) and not args.replay:
         return _fail("--video and --headless play a recording: add --replay FILE "
@@ -63,7 +63,7 @@ def main(args) -> int:
     if args.fps is not None and not args.fps > 0:
         return _fail(f"--fps: expected a number > 0, got {args.fps}")
     if args.video:
-        from compare.game.video import require_writer
+        from compare.tools.game.video import require_writer
         require_writer(args.video)   # the game extra: one line and exit 2, before the replay runs
 
     replay = None
@@ -93,7 +93,7 @@ def main(args) -> int:
 
     if replay is not None and (args.video or args.headless):
         if args.video:
-            from compare.game.video import render_video
+            from compare.tools.game.video import render_video
             frames = render_video(replay, args.video, fps=args.fps)
             print(f"wrote {args.video}: {frames} frames", file=sys.stderr if args.headless else sys.stdout)
         else:
@@ -102,7 +102,7 @@ def main(args) -> int:
             print(json.dumps(game.summary()))
         return _check(replay, engine_name)
 
-    from compare.game.window import Window, display_problem
+    from compare.tools.game.window import Window, display_problem
     problem = display_problem()
     if problem:
         what = args.replay or "demo"
@@ -119,5 +119,5 @@ def _check(replay, engine_name: str) -> int:
     if engine_name == replay.recording.engine and replay.matches_recording() is False:
         print(f"play: note: the recording saved the result {json.dumps(replay.recording.result)}; "
               "this replay differs, so the game's physics or rules changed since it was recorded "
-              "(python -m compare.game.demo remakes the demo)", file=sys.stderr)
+              "(python -m compare.tools.game.demo remakes the demo)", file=sys.stderr)
     return EXIT_OK

@@ -77,7 +77,7 @@ def run_one(scene, out: str, simulator=None):
         from mujoco_models import to_mjcf
 
         from ..report import write_scenario
-        from ..verdict.scenario import run_scenario
+        from ..checks.scenario import run_scenario
 
         from ..store import counts
 
@@ -107,7 +107,7 @@ def _number(value, unit: str) -> str:
 
 def failure_text(check: dict) -> str:
     """What a failed check measured: the component and value that left the tolerance."""
-    from ..verdict.scenario import check_label
+    from ..checks.scenario import check_label
 
     label = check_label(check)
     if check.get("first_residual") is not None:   # step: per component, per step
@@ -130,7 +130,7 @@ def failure_text(check: dict) -> str:
 def verdict_line(row: dict) -> str:
     """The line `run` prints for a scenario that ran: pass (with what was not judged), FAIL
     (each failed check's component and value), or not judged."""
-    from ..verdict.scenario import SHOWN, check_label
+    from ..checks.scenario import SHOWN, check_label
 
     name = row["name"]
     judged = [c for c in row["checks"] if c["pass"] is not None]
@@ -262,11 +262,11 @@ def prepare_workers() -> None:
     workers inherit it: the dynamics twin's compiled passive-force callback, and the modules of
     the checks and the report (matplotlib, scipy, mujoco: a second or more a process)."""
     import compare.report  # noqa: F401
-    import compare.verdict.attribution  # noqa: F401
-    import compare.verdict.scenario  # noqa: F401
-    import compare.verdict.contact_check  # noqa: F401
-    import compare.verdict.dynamics_check  # noqa: F401
-    import compare.verdict.step_check  # noqa: F401
+    import compare.checks.attribution  # noqa: F401
+    import compare.checks.scenario  # noqa: F401
+    import compare.checks.contact_check  # noqa: F401
+    import compare.checks.dynamics_check  # noqa: F401
+    import compare.checks.step_check  # noqa: F401
     import compare.oracle.reference  # noqa: F401
     from mujoco_models.passive import callback
     callback()

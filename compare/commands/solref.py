@@ -26,7 +26,7 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    from ..calibration.conversion import conversion_table, drop_scene
+    from ..tools.calibration.conversion import conversion_table, drop_scene
 
     drop_scene(args.mass, args.k, args.c, args.shape, args.size, args.radius)  # bad input first
     rows = conversion_table(args.mass, args.k, args.c, args.shape, args.size, args.radius, args.calibration)

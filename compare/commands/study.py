@@ -47,7 +47,7 @@ def parse(args):
     from custom_sim import INTEGRATORS
 
     from ..scenarios import resolve
-    from ..study.fields import SceneSource, parse_vary
+    from ..tools.study.fields import SceneSource, parse_vary
 
     source = SceneSource.read(resolve(args.scene))
     varies = [parse_vary(text) for text in args.vary]
@@ -65,7 +65,7 @@ def parse(args):
     if args.scheduler and args.workers:
         raise BadInput("--workers: the cluster given by --scheduler has its own workers")
     out = output_folder(args.out)
-    from ..study.plan import plan
+    from ..tools.study.plan import plan
     plan(source, varies, args.integrators)   # every combination through the loader, before any output
     return source, varies, list(args.integrators), out
 
@@ -87,8 +87,8 @@ def main(args) -> int:
     from ..executor import require_dask
     require_dask("study")   # the study extra: one line and exit 2, before anything runs
     source, varies, integrators, out = parse(args)
-    from ..study.report import write_report
-    from ..study.runner import run_study
+    from ..tools.study.report import write_report
+    from ..tools.study.runner import run_study
 
     engine = None
     if args.scheduler:   # a wrong address is bad input: found before anything is written

@@ -60,7 +60,7 @@ def main(args) -> int:
 
     from tqdm import tqdm
 
-    from ..accuracy.workprecision import run_sweep
+    from ..tools.accuracy.workprecision import run_sweep
 
     start = time.perf_counter()
     jobs = max(1, args.jobs)
@@ -128,7 +128,7 @@ def _cost(run) -> str:
 
 def _time_verdict(win, others) -> str:
     """What the CPU times say about win against others, only as far as their spread allows."""
-    from ..accuracy.workprecision import fastest
+    from ..tools.accuracy.workprecision import fastest
 
     if not others:
         return ""
@@ -145,7 +145,7 @@ def answer(sweep) -> str:
     """'What is the cheapest way to reach 1 mm here?' in a few plain sentences: the run with the
     fewest force evaluations (counted, so the same on every rerun), its time beside it, and what
     the times say only where they differ by more than their measured spread."""
-    from ..accuracy.workprecision import TARGET_ERROR, best_error, clearly_faster, ranking
+    from ..tools.accuracy.workprecision import TARGET_ERROR, best_error, clearly_faster, ranking
 
     ours = [r for r in sweep.runs if r.simulator == "custom"]
     theirs = [r for r in sweep.runs if r.simulator == "mujoco"]
@@ -232,7 +232,7 @@ def machine() -> str:
 def cheapest_table(results, command: str = "python -m compare sweep") -> str:
     """The README's table: for each scene, the fewest force evaluations that reach 1 mm in each
     simulator, with the CPU time and its spread beside them, and the machine it was measured on."""
-    from ..accuracy.workprecision import ranking
+    from ..tools.accuracy.workprecision import ranking
 
     def cell(run, self_error=False):
         if run is None:
@@ -339,7 +339,7 @@ def plot_scene(sweep, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..accuracy.workprecision import TARGET_ERROR
+    from ..tools.accuracy.workprecision import TARGET_ERROR
 
     fig = plt.figure(figsize=(19, 5.2))
     first = fig.add_subplot(1, 3, 1)
@@ -393,7 +393,7 @@ def _fmt(x, spec=".3g") -> str:
 
 
 def stability_rows(sweep) -> list[str]:
-    from ..accuracy.stability_search import theory
+    from ..tools.accuracy.stability_search import theory
 
     rows = []
     for lim in sweep.stability:
@@ -422,8 +422,8 @@ STABILITY_HEADER = [
 
 def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
     from ..oracle.reference import REFERENCE_RTOL
-    from ..accuracy.stability_search import ENERGY_GROWTH_LIMIT, QUIET_CONTACT_SHARE
-    from ..accuracy.workprecision import GRID, LADDER, MUJOCO_CONVERGED_N, MUJOCO_LADDER, RUN_BUDGET
+    from ..tools.accuracy.stability_search import ENERGY_GROWTH_LIMIT, QUIET_CONTACT_SHARE
+    from ..tools.accuracy.workprecision import GRID, LADDER, MUJOCO_CONVERGED_N, MUJOCO_LADDER, RUN_BUDGET
 
     lines = [
         "# What accuracy costs: work-precision and stability",

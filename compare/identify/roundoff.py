@@ -16,7 +16,7 @@ STATE_ULPS = 4.0
 FORCE_ULPS = 32.0
 # An implicit Euler step is the root of an equation solved to a tolerance, not to round-off:
 # the harness holds a simulator's implicit Euler to custom_sim's Newton tolerance (m/s, rad/s,
-# compare/verdict/one_step.py), so its v1, and the state the force is read at, may be this far
+# compare/oracle/one_step.py), so its v1, and the state the force is read at, may be this far
 # from the exact root.
 IMPLICIT_SOLVE_TOL = 1e-10
 # A contact point found where contact begins (bisection on the height) is off by the rounding of
@@ -52,7 +52,7 @@ def rate_bound(law: Law, integrator: str, Z0: np.ndarray, Z1: np.ndarray, H: np.
                rounding=None, sensitivity: bool = True) -> np.ndarray:
     """The round-off bound (n, 3) in N, N, N m on m (v1 - v0)/h - m a_law for each row: the
     velocity change read back, the law's terms, implicit Euler's solve tolerance, and a file's
-    rounding (compare.verdict.one_step.Rounding, or None for full precision). sensitivity
+    rounding (compare.oracle.one_step.Rounding, or None for full precision). sensitivity
     False leaves out how the law carries the state's uncertainty (twelve evaluations of the
     law: a caller with many candidate laws takes it once, from one law)."""
     H = np.asarray(H, dtype=float)[:, None]

@@ -15,7 +15,7 @@ contact point i, arm r_i:
     tau  = sum_i (r_ix Fn_i - r_iy Ft_i) - mu_roll Fn_i s(omega)    s: tanh or sign
 
 `Law` names the ways a hand-written simulator can deviate from these lines. The default is the
-scene's own law; compare/verdict/mistakes.py builds its catalogue by replacing one field at a
+scene's own law; compare/checks/mistakes.py builds its catalogue by replacing one field at a
 time, so a variant differs from the reference in exactly the line it names and nowhere else.
 
 `scale` is what the round-off of each acceleration is proportional to: the sum of the

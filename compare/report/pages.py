@@ -13,10 +13,10 @@ from custom_sim import write_csv
 
 from .atomic import finite_json, temporary_folder, write_text_atomically
 
-from ..verdict import metrics
+from ..checks import metrics
 from . import plots
-from ..verdict.law_difference import law_lines
-from ..verdict.scenario import Result, check_label, metrics_json
+from ..checks.law_difference import law_lines
+from ..checks.scenario import Result, check_label, metrics_json
 
 def _fmt(x, unit: str = "") -> str:
     if x is None:

@@ -9,7 +9,7 @@ import numpy as np
 from custom_sim import INTEGRATORS, Scene
 from custom_sim.model import initial_state
 
-from ..verdict.one_step import Rounding
+from ..oracle.one_step import Rounding
 from .errors import UserCodeError
 
 STATE = "[x, y, theta, vx, vy, omega]"
@@ -25,7 +25,7 @@ class UserRun:
 
     states (steps + 1, 6); energy (steps + 1,) J or None when not supplied; wall_time s
     (None: not known, a CSV); integrator: the one the simulator names; rounding: how the
-    states were written (a CSV: compare.verdict.one_step.Rounding, fixed decimals or
+    states were written (a CSV: compare.oracle.one_step.Rounding, fixed decimals or
     significant digits, found from the file's text), None for full double precision."""
 
     states: np.ndarray

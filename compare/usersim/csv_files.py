@@ -16,7 +16,7 @@ import numpy as np
 from custom_sim import Scene
 from custom_sim.model import initial_state
 
-from ..verdict.one_step import Rounding
+from ..oracle.one_step import Rounding
 from .base import UserRun, _check_initial, _Simulator, declared_integrator
 from .errors import UserCodeError
 

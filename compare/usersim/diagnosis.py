@@ -1,7 +1,7 @@
 """Where a user's simulator departs from the seed's algorithm, and which known mistake explains it.
 
-Two probes, both against the reference's independent step (compare/verdict/step_check.py) and
-the catalogue of known mistakes (compare/verdict/mistakes.py):
+Two probes, both against the reference's independent step (compare/checks/step_check.py) and
+the catalogue of known mistakes (compare/checks/mistakes.py):
 
     moments      (a step function only) the user's step called from custom_sim's states at
                  chosen moments (flight, touchdown, a sliding corner, rolling, resting): which
@@ -26,8 +26,8 @@ import numpy as np
 
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
-from ..verdict import mistakes
-from ..verdict.case import as_case
+from ..checks import mistakes
+from ..checks.case import as_case
 from .errors import UserCodeError, UserFault
 from .law_diagnosis import law_findings, law_verdict
 from .moments import not_probed, pick_moments

@@ -47,8 +47,8 @@ def main(argv=None) -> int:
 
 def _validate(args) -> int:
     from ..scenarios import load_all
-    from ..verdict.identical_check import check_identical
-    from ..verdict.step_check import check_step, split_arrays
+    from ..checks.identical_check import check_identical
+    from ..checks.step_check import check_step, split_arrays
     from . import diagnosis, load_simulator, render_markdown, run_user
 
     from . import UserFault, preflight

@@ -1,0 +1,469 @@
+"""One scenario: run the simulator under test, judge every check, measure every difference.
+
+The checks (one row each, see CHECK_KEYS; every check module is compare/checks/*_check.py):
+
+    step        each integrator's trajectory, step by step, against one step of the same
+                integrator with an independent right-hand side          (all four integrators)
+    dynamics    against MuJoCo integrating the same contact law        (semi-implicit Euler, RK4)
+    contact     against MuJoCo's own contact, penalty mapping, friction off
+    identical   a user's simulator against custom_sim, same integrator and dt
+    reference   the error at the scene's dt against the converged reference  (shown, not judged)
+    native      MuJoCo's own contact with every effect on (shown; judged only by a [tolerance]
+                the scene file sets), with every difference measured and attributed to a named
+                cause (attribution.py)
+
+The scenario passes when every judged check passes.
+"""
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Trajectory, stable_step
+from scene_types.schema import SOLREF_MAPPINGS
+
+from . import events, metrics
+from .case import Case
+from .native_check import native_row
+
+# integrators whose dynamics MuJoCo can integrate with a passive force: Euler is our
+# semi-implicit Euler, RK4 the classical four stages; its implicit integrators leave passive
+# forces out of their derivatives, and it has no explicit Euler.
+MUJOCO_INTEGRATORS = {"semi_implicit_euler": "Euler", "rk4": "RK4"}
+CUSTOM = "custom_sim"
+SHOWN = ("reference", "native")    # checks that are shown, not judged, by design
+# damping families the contact check's variant (friction off, the linear law) can stand for: a
+# user's code for compression or linear follows the scene's damping_law; one written for
+# Hunt-Crossley or the unclamped law need not
+LINEAR_KIN = ("compression", "linear")
+
+
+@dataclass
+class Result:
+    scene: Scene
+    under_test: Trajectory | None = None              # the simulator under test
+    custom: Trajectory | None = None                  # custom_sim with the scene's integrator
+    runs: dict = field(default_factory=dict)          # custom_sim by integrator: Trajectory or the failure text
+    mujoco: Trajectory | None = None                  # native twin, the scene's own mapping
+    by_mapping: dict = field(default_factory=dict)    # mapping -> metrics (and drift)
+    metrics: dict = field(default_factory=dict)       # under test against the native twin
+    checks: list = field(default_factory=list)        # check rows (CHECK_KEYS)
+    attribution: list = field(default_factory=list)   # the measured ladder of causes
+    residuals: dict = field(default_factory=dict)     # per-step residuals of the step checks (plots)
+    reference: np.ndarray | None = None               # converged reference states (steps + 1, 6), for the plots
+    warnings: list = field(default_factory=list)      # e.g. dt outside the theory's limit
+    diagnosis: dict | None = None                     # a user's simulator: which mistake explains it
+    simulator: str = CUSTOM                           # name of the simulator under test
+    error: str | None = None                          # why no verdict could be reached
+    unstable: bool = False                            # the error is a divergence or chatter
+    error_details: str = ""                           # the user's own traceback, where their code raised
+    keeps_state: str | None = None                    # a step function whose answer depends on earlier calls
+    law_differences: list = field(default_factory=list)  # `run --law`: each effect that differs from the scene's
+    balances: dict = field(default_factory=dict)      # simulator -> compare.energy.Balance (E, W, R)
+
+    @property
+    def judged(self) -> list[dict]:
+        return [c for c in self.checks if c["pass"] is not None]
+
+    @property
+    def failed(self) -> list[dict]:
+        return [c for c in self.checks if c["pass"] is False]
+
+    @property
+    def passed(self) -> bool:
+        """Every judged check passed, and at least one was judged."""
+        return self.error is None and not self.failed and bool(self.judged)
+
+    @property
+    def not_judged(self) -> list[dict]:
+        return [c for c in self.checks if c["pass"] is None and c["name"] not in SHOWN]
+
+    @property
+    def status(self) -> str:
+        if self.error:
+            return "unstable" if self.unstable else "error"
+        if not self.judged:
+            return "not judged"
+        return "pass" if self.passed else "FAIL"
+
+
+def check_label(check: dict) -> str:
+    """`dynamics (rk4)`: the check's name with its integrator."""
+    return f"{check['name']} ({check['integrator']})" if check.get("integrator") else check["name"]
+
+
+def custom_runs(case: Case) -> dict:
+    """custom_sim with each of the four integrators at the scene's dt: a Trajectory, or the
+    divergence message where that integrator is unstable at this step."""
+    runs = {}
+    for name in INTEGRATORS:
+        try:
+            runs[name] = case.trajectory(name)
+        except SimulationDiverged as exc:
+            runs[name] = str(exc)
+    return runs
+
+
+def unstable_row(name: str, integrator: str, why: str) -> dict:
+    return {"name": name, "isolates": "", "integrator": integrator, "position_error_max": None,
+            "angle_error_max": None, "tolerance_position": None, "tolerance_angle": None, "pass": None,
+            "reason": f"not judged: {integrator} is unstable at this step ({why})"}
+
+
+def run_scenario(scene: Scene, simulator=None) -> Result:
+    """Run every check of the scene on custom_sim (simulator None) or on a user's simulator
+    (compare.usersim); MuJoCo with every solref mapping beside."""
+    from ..usersim import UserFault
+    from ..usersim.errors import UserDiverged
+
+    result = Result(scene)
+    try:
+        _run(result, Case(scene), simulator)
+    except SimulationDiverged as exc:
+        result.error, result.unstable = str(exc), True
+    except UserFault as exc:  # the user's code failed on this scene: its row, the others go on
+        result.error, result.error_details = str(exc), exc.details
+        result.unstable = isinstance(exc, UserDiverged)
+    return result
+
+
+def _run(result: Result, case: Case, simulator) -> None:
+    """The scenario, check by check (each row's module is named in the module docstring)."""
+    scene = result.scene
+    result.warnings = stability_warnings(scene)
+    tested = runs_under_test(result, case, simulator)
+    user = simulator is not None
+    result.checks = [
+        *([identical_row(case, result.under_test)] if user else []),
+        *step_rows(result, case, tested),
+        *dynamics_rows(scene, tested, result.under_test if user else None),
+        contact_row(case, simulator, result.under_test.integrator if user else None),
+    ]
+    rows, result.reference = reference_rows(case, tested, result.runs, own_model=not user)
+    result.checks += rows
+    native_twins(result, case)
+    result.checks.append(native_row(scene, result.metrics))
+    result.balances = energy_balances(result, case)
+    result.checks += energy_column_rows(result)
+    result.attribution = attribution_ladder(case, result.mujoco)
+    if scene.scene_contact is not None:
+        from .law_difference import law_differences
+        result.law_differences = law_differences(scene, result.under_test.t, result.under_test.states())
+    if user:
+        result.diagnosis = simulator.diagnose(scene, result.under_test, probe=result.keeps_state is None, case=case)
+
+
+def runs_under_test(result: Result, case: Case, simulator) -> dict:
+    """custom_sim's four runs, and the simulator under test's (custom_sim's own, or the user's
+    with its warnings and whether its step keeps state): {integrator: Trajectory or divergence}."""
+    scene = result.scene
+    result.runs = custom_runs(case)
+    result.custom = case.trajectory()   # raises the scene's own divergence
+    if simulator is None:
+        result.under_test = result.custom
+        return dict(result.runs)
+    from ..usersim import run_user
+    from ..usersim.purity import keeps_state
+    result.simulator = simulator.name
+    with warnings.catch_warnings(record=True) as said:   # e.g. float32 states: onto the page
+        warnings.simplefilter("always", UserWarning)
+        result.under_test = run_user(simulator, scene)
+    result.warnings += [str(w.message) for w in said if issubclass(w.category, UserWarning)]
+    result.keeps_state = keeps_state(simulator, scene, result.under_test.states())
+    if result.keeps_state:
+        result.warnings.append(result.keeps_state)
+    return {result.under_test.integrator: result.under_test}
+
+
+def identical_row(case: Case, run: Trajectory) -> dict:
+    """Check identical: the user's run against custom_sim's, same integrator and dt."""
+    from .identical_check import check_identical
+    scene = case.scene
+    return check_identical(scene, run.states(), run.integrator, scene.dt, run.meta.get("rounding"), case=case)
+
+
+def step_rows(result: Result, case: Case, tested: dict) -> list[dict]:
+    """Check step, for each run under test (its per-step residuals kept for the plots)."""
+    from .step_check import check_step, split_arrays
+
+    scene, rows = case.scene, []
+    for name, run in tested.items():
+        if isinstance(run, str):
+            rows.append(unstable_row("step", name, run))
+            continue
+        # states read from a text file carry their rounding (fixed decimals or significant digits)
+        row, arrays = split_arrays(check_step(scene, run.states(), name, scene.dt, rounding=run.meta.get("rounding"),
+                                              equations=case.equations))
+        r = arrays.get("residual")
+        result.residuals[name] = None if r is None else np.hypot(r[:, 0], r[:, 1])
+        rows.append(row)
+    return rows
+
+
+def dynamics_rows(scene: Scene, tested: dict, user_run: Trajectory | None) -> list[dict]:
+    """Check dynamics, for each run under test whose integrator MuJoCo has; an integrator the
+    harness does not know is shown beside MuJoCo's RK4."""
+    from .dynamics_check import check_dynamics
+
+    rows = []
+    for name in MUJOCO_INTEGRATORS:
+        run = tested.get(name)
+        if run is not None:
+            rows.append(unstable_row("dynamics", name, run) if isinstance(run, str)
+                        else check_dynamics(scene, run.states(), name, scene.dt, run.meta.get("rounding")))
+    if user_run is not None and user_run.integrator not in INTEGRATORS:
+        rows.append(beside_rk4_dynamics(scene, user_run))
+    return rows
+
+
+def native_twins(result: Result, case: Case) -> None:
+    """MuJoCo's own contact with each solref mapping (the scene's first), measured against the
+    run under test; the scene's own mapping is the native check's and the report's twin."""
+    from mujoco_models import MujocoDiverged
+
+    own_mapping = result.scene.mujoco.solref
+    for mapping in (own_mapping,) + tuple(m for m in SOLREF_MAPPINGS if m != own_mapping):
+        try:
+            twin = case.mujoco(mapping)
+        except (SimulationDiverged, MujocoDiverged) as exc:  # shown in the mappings table
+            result.by_mapping[mapping] = {"error": str(exc)}
+            continue
+        row = metrics.compare(result.under_test, twin)
+        row["energy_drift_mujoco"] = metrics.energy_drift(twin)
+        row["wall_time_mujoco"] = twin.wall_time
+        result.by_mapping[mapping] = row
+        if mapping == own_mapping:
+            result.mujoco, result.metrics = twin, row
+    if result.mujoco is None:
+        raise RuntimeError(result.by_mapping[own_mapping]["error"])
+
+
+def attribution_ladder(case: Case, native: Trajectory) -> list[dict]:
+    """Why custom_sim and MuJoCo's own contact differ, cause by cause (attribution.py)."""
+    from .attribution import attribute
+    scene = case.scene
+    return attribute(scene, native if scene.mujoco.solref == "penalty" else None, case=case)
+
+
+def energy_balances(result: Result, case: Case) -> dict:
+    """The work-energy balance (compare/energy) of each trajectory the scenario holds: the
+    simulator under test (W by its integrator's own rule, or the trapezoid rule for an integrator
+    the harness does not know or states read from a file), custom_sim beside a user's, MuJoCo's
+    native run (from its states), and the converged reference (its work integrated with it)."""
+    from ..energy import balance
+    from ..energy.mujoco_side import native_from_run
+
+    scene, tested = result.scene, result.under_test
+    rule = tested.integrator if tested.integrator in INTEGRATORS and not tested.meta.get("rounding") else None
+    out = {result.simulator: balance(scene, tested.t, tested.states(), rule)}
+    if tested is not result.custom:
+        out[CUSTOM] = balance(scene, result.custom.t, result.custom.states(), result.custom.integrator)
+    twin = result.mujoco
+    out["mujoco"] = native_from_run(scene, twin.t, twin.states(), twin.integrator, twin.meta.get("solref_mapping", "penalty"))
+    reference = reference_balance(case)
+    if reference is not None:
+        out["reference"] = reference
+    return out
+
+
+def reference_balance(case: Case):
+    """The converged reference's balance, its work integrated with the motion (None without a
+    reference, or a reference that carries no work)."""
+    from ..energy.balance import Balance
+    from ..energy.terms import energy
+    from ..energy.law import body_of
+    from ..oracle.reference import ReferenceError
+    try:
+        ref = case.reference()
+    except ReferenceError:
+        return None
+    work = getattr(ref, "work", None)
+    if work is None:
+        return None
+    E = energy(case.scene, body_of(case.scene), ref.states)
+    return Balance(ref.t, E, work, E - E[0] + work.sum(axis=1), "integrated with the motion (DOP853, the "
+                   "reference's tolerance)", "reference", np.zeros(6))
+
+
+def energy_column_rows(result: Result) -> list[dict]:
+    """Check energy: where the simulator under test reports its own energy (custom_sim; a
+    user's 7th column or `energy` column), that it is the energy of its states."""
+    from ..energy.column import energy_column_check
+
+    tested = result.under_test
+    if tested is not result.custom and tested.meta.get("energy_source") != "user":
+        return []
+    verdict = energy_column_check(result.scene, tested.states(), tested.energy)
+    return [{"name": "energy", "isolates": "the simulator's own energy column against the energy of its states "
+                                           "(kinetic + m g y + sum k d^2 / 2)",
+             "integrator": None, "position_error_max": None, "angle_error_max": None,
+             "tolerance_position": None, "tolerance_angle": None, "pass": verdict.agrees,
+             "energy_difference_max": verdict.difference_max, "energy_tolerance_max": verdict.tolerance_max,
+             "reason": verdict.text}]
+
+
+def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> dict:
+    """An integrator the harness does not know, beside MuJoCo's RK4 under the same contact law
+    at the same step: shown, not judged (no round-off bound holds between two methods)."""
+    from .dynamics_check import check_dynamics
+
+    row = check_dynamics(scene, run.states(), "rk4", scene.dt, run.meta.get("rounding"))
+    row.update({"integrator": run.integrator, "tolerance_position": None, "tolerance_angle": None, "pass": None,
+                "reason": f"shown, not judged: {run.integrator!r} is not an integrator the harness knows, so it "
+                          "is shown beside MuJoCo's RK4 under the same contact law at the same step"})
+    return row
+
+
+def contact_row(case: Case, simulator, integrator: str | None = None) -> dict:
+    """Check contact: the simulator under test on the scene with friction off (and the linear
+    law MuJoCo has), against MuJoCo's own contact. A user's simulator is run again on that
+    variant, which the harness made up: where it cannot run it (precomputed trajectories) or
+    refuses it (raises, fails), the check is not judged, with the user's message; the rest stand."""
+    from .contact_check import check_contact, contact_scene, not_judged
+
+    scene = case.scene
+    if simulator is None:
+        return check_contact(scene, case=case)
+
+    if not simulator.reruns:
+        return not_judged(integrator, "needs a run of the scene with friction off, which precomputed trajectories cannot "
+                          "give (bring a step function)")
+    if scene.contact.damping_law not in LINEAR_KIN:
+        return not_judged(integrator, f"MuJoCo's own contact is a spring-damper that damps both ways and never pulls "
+                          f"(the linear law), and this check runs your code on the scene with that law; the law "
+                          f"judged here, {scene.contact.damping_law}, has no such form in MuJoCo, and code written "
+                          f"for it need not follow the variant: the dynamics check runs your law itself in MuJoCo")
+    from ..usersim import UserCodeError, UserFault, run_user
+    from ..usersim.guard import EndedProcess
+    variant = contact_scene(scene)
+    try:
+        states = run_user(simulator, variant).states()
+    except EndedProcess:
+        raise
+    except (UserFault, UserCodeError) as exc:
+        return not_judged(integrator, f"your simulator did not run the variant this check needs (friction and rolling "
+                          f"resistance off, the linear damping law): {exc}")
+    return check_contact(scene, states, integrator, case=case)
+
+
+def reference_rows(case: Case, tested: dict, runs: dict, own_model: bool = True) -> tuple[list[dict], np.ndarray | None]:
+    """The error at the scene's dt against the converged reference, for each trajectory under
+    test, beside custom_sim's for the same integrator (shown, not judged); and the reference's
+    states. For custom_sim (own_model) the difference is the integrator's error at this dt; for
+    another simulator it is model and integration together."""
+    from ..oracle.reference import ReferenceError
+
+    rows = []
+    try:
+        ref = case.reference()
+    except ReferenceError as exc:
+        return [{"name": "reference", "isolates": "accuracy at this dt", "integrator": None,
+                 "position_error_max": None, "angle_error_max": None, "tolerance_position": None,
+                 "tolerance_angle": None, "pass": None, "reason": f"no converged reference: {exc}"}], None
+    for name, run in tested.items():
+        if isinstance(run, str):
+            continue
+        err = reference_error(run, ref.states)
+        mine = runs.get(name)
+        if own_model:
+            isolates = "the integrator's error at this dt against the converged reference"
+            reason = "shown, not judged: the numerical error of the integrator at the scene's dt"
+        else:
+            isolates = "difference to the scene model's converged solution (model and integration together)"
+            reason = ("shown, not judged: your run against the scene's model solved to convergence; a difference "
+                      "of model and one of integration both show here")
+        row = {"name": "reference", "isolates": isolates, "integrator": name, **err,
+               "tolerance_position": None, "tolerance_angle": None, "pass": None, "reason": reason}
+        if mine is not None and not isinstance(mine, str) and mine is not run:
+            custom = reference_error(mine, ref.states)["position_error_max"]
+            row["custom_sim_position_error_max"] = custom
+            row["reason"] += f"; custom_sim with the same integrator and dt: {custom:.3g} m"
+        rows.append(row)
+    return rows, ref.states
+
+
+def reference_error(run: Trajectory, ref_states: np.ndarray) -> dict:
+    s = run.states()
+    n = min(len(s), len(ref_states))
+    d = s[:n] - ref_states[:n]
+    return {"position_error_max": float(np.max(np.hypot(d[:, 0], d[:, 1]))),
+            "angle_error_max": float(np.max(np.abs(d[:, 2])))}
+
+
+def stability_warnings(scene: Scene) -> list[str]:
+    """The line saying which effect's theoretical stability limit the scene's dt exceeds."""
+    from custom_sim.stability import warning
+
+    line = warning(scene)
+    return [line] if line else []
+
+
+def metrics_json(result: Result) -> dict:
+    """metrics.json: the keys docs/report-files.md promises, then ours."""
+    from ..energy import metrics_block
+
+    scene, tested, twin = result.scene, result.under_test, result.mujoco
+    m = result.metrics
+    limit = stable_step(scene)
+    contact = next((c for c in result.checks if c["name"] == "contact"), None)
+    return {
+        "name": scene.name,
+        "integrator": scene.integrator,
+        "dt": scene.dt,
+        "steps": scene.steps,
+        "position_error_max": m["position_error_max"],
+        "position_error_rms": m["position_error_rms"],
+        "angle_error_max": m["angle_error_max"],
+        "energy_drift_custom": metrics.energy_drift(tested),
+        "energy_drift_mujoco": metrics.energy_drift(twin),
+        "tolerance": {check_label(c): {"position": c["tolerance_position"], "angle": c["tolerance_angle"],
+                                       "reason": c["reason"]} for c in result.checks},
+        "pass": result.passed,
+        "wall_time_custom": tested.wall_time,
+        "wall_time_mujoco": twin.wall_time,
+        "checks": result.checks,
+        # ours
+        "simulator": result.simulator,
+        "status": result.status,
+        "not_judged": [check_label(c) for c in result.not_judged],
+        "failed_checks": [check_label(c) for c in result.failed],
+        "warnings": result.warnings,
+        "description": scene.description,
+        "shape": scene.body.shape,
+        "effects": list(scene.effects),
+        "velocity_error_max": m["velocity_error_max"],
+        "angular_velocity_error_max": m["angular_velocity_error_max"],
+        "position_error_final": m["position_error_final"],
+        "time_of_position_error_max": m["time_of_position_error_max"],
+        "energy_initial": float(tested.energy[0]),
+        "force_evals_custom": result.custom.force_evals,
+        "newton_iterations_custom": result.custom.newton_iterations,
+        "stable_dt_theory": None if limit == float("inf") else float(limit),
+        "stable_dt_reason": getattr(limit, "reason", ""),
+        "dt_within_stability_limit": not result.warnings,
+        "events_custom": events.events(scene, tested),
+        "events_mujoco": events.events(scene, twin),
+        "mujoco": dict(twin.meta),
+        "mujoco_integrator": twin.integrator,
+        "mujoco_dt": twin.dt,
+        "mappings": result.by_mapping,
+        "attribution": result.attribution,
+        "contact_check": contact,
+        "diagnosis": result.diagnosis,
+        "law": law_json(result),
+        "energy_balance": {name: {**metrics_block(b), "rule": b.rule} for name, b in result.balances.items()},
+    }
+
+
+def law_json(result: Result) -> dict:
+    """The contact law the checks used, where it came from, and (under `run --law`) the scene
+    file's own law and each effect that differs."""
+    import dataclasses
+    scene = result.scene
+    out = {"from": scene.law_from or "scene", "judged": dataclasses.asdict(scene.contact)}
+    if scene.scene_contact is not None:
+        out["scene"] = dataclasses.asdict(scene.scene_contact)
+        out["differences"] = result.law_differences
+    return out

@@ -1,0 +1,137 @@
+"""What a first run costs: numba compiling the simulator, apart from the run itself.
+
+Each figure comes from a fresh Python process with NUMBA_CACHE_DIR pointing at a folder of its
+own, and the cache of scene-only work (compare/store.py) beside it, so nothing compiled or
+computed earlier on the machine is reused:
+
+    compile      the simulator compiled into an empty cache in one process (10 steps of
+                 box_drop with each integrator, and the blow-up check a MuJoCo trajectory goes
+                 through: everything of custom_sim that `run` compiles)
+    run, warm    `python -m compare run SCENES` once that compile is cached (no scene-only work yet)
+    first run    `python -m compare run SCENES` on other empty caches: what a new user waits
+    second run   the same command again, both caches now full
+
+Wall time is what a user waits; CPU time (user + system, all the processes of the command)
+is what the machine spent, and moves less with other load. The load average is printed with
+them. With `tree`, an older checkout of the repository, the same commands also run there,
+in alternation with today's, so both are measured under the same load.
+"""
+from __future__ import annotations
+
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[3]
+
+# The compile probe: works on any revision of custom_sim (no warm_up needed); one process,
+# every integrator, so it is the whole compile as one core does it.
+COMPILE_PROBE = """
+import dataclasses, numpy as np, custom_sim as cs
+from custom_sim.integrators import first_unhealthy
+from custom_sim.simulate import blowup_guard
+scene = cs.load_scene('scenarios/box_drop.toml')
+for name in cs.INTEGRATORS:
+    traj = cs.simulate(dataclasses.replace(scene, duration=10 * scene.dt, integrator=name))
+states = np.ascontiguousarray(traj.states())
+first_unhealthy(states, blowup_guard(scene, cs.mass_properties(scene.body), states[0], applied_input=False))
+"""
+
+
+@dataclass(frozen=True)
+class Timed:
+    """One command: wall time and CPU time (s) of the process and its children; exit status."""
+
+    wall: float
+    cpu: float
+    status: int
+
+
+def timed(command: list[str], cwd: Path, cache: str) -> Timed:
+    """Run command in cwd with NUMBA_CACHE_DIR = cache and the cache of scene-only work beside it
+    (compare/store.py: a first run on a fresh machine has neither); its wall and CPU time."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(cwd),
+           "CONTACT_HARNESS_CACHE": os.path.join(cache, "results")}
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    proc = subprocess.run(command, cwd=cwd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    if proc.returncode not in (0, 1):
+        raise RuntimeError(f"{' '.join(command)} (in {cwd}) exited {proc.returncode}: {proc.stderr.strip()[-500:]}")
+    return Timed(wall, cpu, proc.returncode)
+
+
+@dataclass(frozen=True)
+class ColdStart:
+    """The four figures of the module docstring for one checkout."""
+
+    tree: str
+    compile: Timed
+    run_warm: Timed
+    first_run: Timed
+    second_run: Timed
+
+
+def measure(trees: list[Path], scenes: list[str], jobs: int | None = None, rounds: int = 1) -> list[ColdStart]:
+    """The cold-start figures of each checkout in `trees`, stage by stage in alternation;
+    with rounds > 1 the whole sequence is repeated and each stage keeps its fastest round
+    (a shared machine's speed drifts by a third within minutes)."""
+    run = [sys.executable, "-m", "compare", "run", *scenes]
+    if jobs:
+        run += ["--jobs", str(jobs)]
+    best: list[list[Timed]] = [[] for _ in trees]
+    for _ in range(max(1, rounds)):
+        with tempfile.TemporaryDirectory() as work:
+            def folder():
+                return tempfile.mkdtemp(dir=work)
+            caches = [(folder(), folder()) for _ in trees]
+            stages = [[] for _ in trees]
+            for step in range(4):
+                for i, tree in enumerate(trees):
+                    if step == 0:
+                        stages[i].append(timed([sys.executable, "-c", COMPILE_PROBE], tree, caches[i][0]))
+                    else:
+                        cache = caches[i][0] if step == 1 else caches[i][1]
+                        stages[i].append(timed([*run, "--out", folder()], tree, cache))
+        for i, st in enumerate(stages):
+            best[i] = st if not best[i] else [min(a, b, key=lambda t: t.wall) for a, b in zip(best[i], st)]
+    return [ColdStart(str(tree), *st) for tree, st in zip(trees, best)]
+
+
+def checkout(revision: str, into: Path) -> Path:
+    """The repository as of `revision` (git archive), extracted into `into`."""
+    import io
+    import tarfile
+
+    proc = subprocess.run(["git", "archive", "--format=tar", revision], cwd=ROOT, capture_output=True)
+    if proc.returncode != 0:
+        raise ValueError(f"--against {revision}: git archive failed: {proc.stderr.decode().strip()}")
+    with tarfile.open(fileobj=io.BytesIO(proc.stdout)) as tar:
+        tar.extractall(into, filter="data")
+    return into
+
+
+def load_average() -> str:
+    try:
+        return " ".join(f"{x:.2f}" for x in os.getloadavg())
+    except OSError:
+        return "unknown"
+
+
+def table(results: list[tuple[str, ColdStart]]) -> str:
+    """The figures as a text table, one column pair (wall, CPU) per checkout."""
+    head = f"{'':<34}" + "".join(f"{label:>24}" for label, _ in results)
+    sub = f"{'':<34}" + "".join(f"{'wall s':>12}{'cpu s':>12}" for _ in results)
+    lines = [head, sub]
+    for key, text in (("compile", "compile (empty cache)"), ("run_warm", "run, cache warm"),
+                      ("first_run", "first run (empty cache)"), ("second_run", "second run")):
+        cells = "".join(f"{getattr(r, key).wall:>12.1f}{getattr(r, key).cpu:>12.1f}" for _, r in results)
+        lines.append(f"{text:<34}{cells}")
+    return "\n".join(lines)

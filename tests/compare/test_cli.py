@@ -1,0 +1,74 @@
+"""The command line of docs/cli.md: help, list, run's output files and exit statuses."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from compare.cli import COMMANDS, main
+from compare.scenarios import builtin_names
+from custom_sim import read_csv
+from scene_types.trajectory import CSV_COLUMNS
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_help_on_every_command(capsys):
+    for command in [None, *COMMANDS]:
+        with pytest.raises(SystemExit) as exit_:
+            main(["--help"] if command is None else [command, "--help"])
+        assert exit_.value.code == 0
+        assert "usage:" in capsys.readouterr().out
+
+
+def test_list_shows_every_builtin(capsys):
+    assert main(["list"]) == 0
+    out = capsys.readouterr().out
+    for name in builtin_names():
+        assert name in out
+
+
+def short_scene(tmp_path, builtin="point_drop", duration=0.4):
+    text = (ROOT / "scenarios" / f"{builtin}.toml").read_text()
+    text = "\n".join(f"duration = {duration}" if line.startswith("duration") else line for line in text.splitlines())
+    path = tmp_path / f"{builtin}_short.toml"
+    path.write_text(text)
+    return path
+
+
+def test_run_writes_the_contract_files(tmp_path):
+    pytest.importorskip("mujoco_models")
+    scene = short_scene(tmp_path)
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "compare", "run", str(scene), "--out", str(out)],
+                          capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode in (0, 1), proc.stderr
+    folder = out / "point_drop_short"
+    for name in ("metrics.json", "trajectory_custom.csv", "trajectory_mujoco.csv", "model.xml", "index.md"):
+        assert (folder / name).is_file(), name
+    assert list(folder.glob("*.png"))
+    data = json.loads((folder / "metrics.json").read_text())
+    for key in ("name", "integrator", "dt", "steps", "position_error_max", "position_error_rms",
+                "angle_error_max", "energy_drift_custom", "energy_drift_mujoco", "tolerance", "pass",
+                "wall_time_custom", "wall_time_mujoco"):
+        assert key in data, key
+    assert data["steps"] == round(0.4 / data["dt"]) and data["pass"] == (proc.returncode == 0)
+    for sim in ("custom", "mujoco"):
+        lines = (folder / f"trajectory_{sim}.csv").read_text().splitlines()
+        assert lines[0] == ",".join(CSV_COLUMNS) and len(lines) == data["steps"] + 2  # header, t = 0, every step
+        cols = read_csv(folder / f"trajectory_{sim}.csv")
+        assert cols["t"][0] == 0.0 and cols["t"][1] == pytest.approx(data["dt"])
+        assert cols["y"][0] == pytest.approx(0.6) and np.all(np.isfinite(cols["energy"]))
+    index = (out / "index.md").read_text()
+    assert "[point_drop_short](point_drop_short/index.md)" in index
+    assert not [p for p in out.iterdir() if p.name.startswith(".")], "no temporary left behind"
+
+
+def test_unknown_scenario_is_bad_input(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["run", "no_such_scene", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "no_such_scene" in err and "expected" in err
+    assert not out.exists()

@@ -1,0 +1,86 @@
+"""The first run's compile: said once, done once, in the right cache folder; the cold-start
+benchmark's table. (How long it takes is measured by `python -m compare bench --cold`, not here.)"""
+from __future__ import annotations
+
+import io
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from compare.tools.accuracy import cold_start
+from custom_sim import compile_cache
+from custom_sim.compile_cache import COMPILING_MESSAGE, is_cached, needs_compiling, warm_up
+from custom_sim.integrators import first_unhealthy, integrate_explicit, integrate_implicit
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_warm_up_compiles_what_a_run_needs_and_is_quiet_once_cached():
+    warm_up(io.StringIO())   # compiles if this process has not yet
+    assert not needs_compiling()
+    assert integrate_explicit.signatures and integrate_implicit.signatures, "both stepping loops are compiled"
+    quiet = io.StringIO()
+    warm_up(quiet)
+    assert quiet.getvalue() == ""
+
+
+def test_warm_up_says_so_when_it_must_compile(monkeypatch):
+    monkeypatch.setattr(compile_cache, "is_cached", lambda dispatcher: False)
+    said = io.StringIO()
+    warm_up(said)
+    assert said.getvalue() == COMPILING_MESSAGE + "\n"
+
+
+PARALLEL_WARM_UP = """
+import sys
+from custom_sim.compile_cache import needs_compiling, warm_up_in_parallel
+from custom_sim.integrators import first_unhealthy, integrate_explicit, integrate_implicit
+warm_up_in_parallel(sys.stdout, meanwhile=lambda: print("meanwhile"))
+print(needs_compiling(), len(integrate_explicit.signatures), len(integrate_implicit.signatures))
+# who compiled what: this process the explicit loop (a cache miss), the other the implicit one
+# (here a cache hit: loaded from what the other process wrote); the blow-up check, this process
+print(sum(integrate_explicit.stats.cache_misses.values()), sum(integrate_implicit.stats.cache_misses.values()),
+      sum(integrate_implicit.stats.cache_hits.values()), sum(first_unhealthy.stats.cache_misses.values()))
+"""
+
+
+@pytest.mark.slow
+def test_the_parallel_warm_up_compiles_both_loops_into_an_empty_cache_and_says_so_once(tmp_path):
+    """Its two halves are compiled in two processes: this one compiles the explicit loop and
+    loads the implicit one from what the other wrote; afterwards the cache is complete."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    out = subprocess.run([sys.executable, "-c", PARALLEL_WARM_UP], cwd=ROOT, env=env, capture_output=True,
+                         text=True, check=True).stdout.splitlines()
+    assert out == [COMPILING_MESSAGE, "meanwhile", "False 1 1", "1 0 1 1"], out
+
+
+def test_the_cache_stamp_follows_numba_cache_dir(tmp_path):
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    out = subprocess.run([sys.executable, "-c", "from custom_sim.compile_cache import cache_folder; print(cache_folder())"],
+                         cwd=ROOT, env=env, capture_output=True, text=True, check=True).stdout.strip()
+    assert Path(out).is_relative_to(tmp_path), out
+    assert (Path(out) / "numba_sources.sha256").is_file(), "the source digest is kept beside numba's cache"
+
+
+def test_cold_start_table_shows_every_stage_for_each_tree():
+    t = cold_start.Timed(1.5, 1.25, 0)
+    r = cold_start.ColdStart("x", t, t, t, t)
+    text = cold_start.table([("today", r), ("before", r)])
+    assert "today" in text and "before" in text
+    for stage in ("compile (empty cache)", "run, cache warm", "first run (empty cache)", "second run"):
+        assert stage in text
+    assert text.count("1.5") == 8 and text.count("1.2") == 8
+
+
+def test_cold_start_rounds_keep_each_stages_fastest_round(monkeypatch):
+    """Round 1 is slow in the compile and the first run, round 2 in the two warm runs: each
+    stage keeps its own minimum, with the CPU time of that same round."""
+    walls = iter([9.0, 2.0, 8.0, 2.0,    # round 1: compile, run warm, first run, second run
+                  5.0, 3.0, 6.0, 3.0])   # round 2
+    monkeypatch.setattr(cold_start, "timed", lambda command, cwd, cache: (lambda w: cold_start.Timed(w, w + 0.5, 0))(next(walls)))
+    (r,) = cold_start.measure([ROOT], ["box_slide"], rounds=2)
+    assert [r.compile.wall, r.run_warm.wall, r.first_run.wall, r.second_run.wall] == [5.0, 2.0, 6.0, 2.0]
+    assert r.compile.cpu == 5.5 and r.run_warm.cpu == 2.5

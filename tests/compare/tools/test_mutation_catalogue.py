@@ -1,0 +1,31 @@
+"""The mutation test's catalogue stays applicable: every mistake is one real edit of custom_sim.
+
+The mutation run itself (`python -m compare.tools.mutation`, a CI step of its own) compiles a copy of
+custom_sim per mistake; this fast test only guards that each edit still finds its text, so that
+a change to custom_sim cannot silently turn a mistake into a no-op.
+"""
+from pathlib import Path
+
+import pytest
+
+from compare.tools.mutation.__main__ import mutated_copy
+from compare.tools.mutation.catalogue import MISTAKES
+
+ROOT = Path(__file__).resolve().parents[3]
+ENOUGH = 15  # the issue asks for at least fifteen typical mistakes
+
+
+def test_catalogue_is_large_and_distinct():
+    names = [m.name for m in MISTAKES]
+    assert len(names) >= ENOUGH and len(set(names)) == len(names)
+    assert len({(m.file, m.old, m.new) for m in MISTAKES}) == len(MISTAKES)
+
+
+@pytest.mark.parametrize("mistake", MISTAKES, ids=lambda m: m.name)
+def test_each_mistake_changes_custom_sim(mistake, tmp_path):
+    original = (ROOT / "custom_sim" / mistake.file).read_text()
+    assert mistake.old in original, f"{mistake.name}: text not found in custom_sim/{mistake.file}"
+    copy = mutated_copy(mistake, tmp_path)
+    changed = (copy / mistake.file).read_text()
+    assert changed != original and mistake.new in changed
+    compile(changed, mistake.file, "exec")  # still valid Python: the mistake runs, it does not crash

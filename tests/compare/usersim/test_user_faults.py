@@ -1,0 +1,429 @@
+"""What a user's code can do to the harness, and what the harness answers (issue "Honest verdicts").
+
+Every test here is a fault a user met, written as a small outsider simulator: the harness must
+answer with a verdict, an error row or one line of bad input, never a traceback, never a pass
+with nothing judged, never a verdict that depends on which scenes ran together.
+"""
+import dataclasses
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from compare.cli import main
+from compare.commands.run import failure_text, verdict_line
+from compare.scenarios import load
+from compare.usersim import UserCodeError, UserFault, load_simulator, preflight, run_user
+from compare.usersim.errors import UserDiverged
+from compare.usersim.guard import EndedProcess
+
+ROOT = Path(__file__).resolve().parents[3]
+SEED = (ROOT / "examples" / "seed_sim.py").read_text()
+
+
+def write(tmp_path, body: str, name: str = "user_sim", seed: bool = True) -> str:
+    """A user's module: the worked example's step, then `body` (which may wrap or replace it)."""
+    path = tmp_path / f"{name}.py"
+    path.write_text((SEED + "\n_seed_step = step\n" if seed else "") + textwrap.dedent(body))
+    return str(path)
+
+
+@pytest.fixture(scope="module")
+def short():
+    """point_drop for 0.05 s (1000 steps): flight only."""
+    return dataclasses.replace(load("point_drop"), duration=0.05)
+
+
+def short_file(tmp_path, builtin: str, duration: float) -> str:
+    text = (ROOT / "scenarios" / f"{builtin}.toml").read_text()
+    text = "\n".join(f"duration = {duration}" if line.startswith("duration") else line for line in text.splitlines())
+    path = tmp_path / f"{builtin}.toml"
+    path.write_text(text)
+    return str(path)
+
+
+def run_cli(argv, capsys):
+    code = main(argv)
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+# --- 1. a verdict is always a verdict ------------------------------------------------------
+
+def test_a_failed_check_without_an_angle_tolerance_prints_its_position():
+    """The summary line crashed formatting None (contact on point_drop has no angle tolerance)."""
+    row = {"name": "point_drop", "pass": False, "checks": [
+        {"name": "contact", "integrator": "semi_implicit_euler", "position_error_max": 0.18,
+         "angle_error_max": 0.0, "tolerance_position": 1.6e-4, "tolerance_angle": None, "pass": False,
+         "reason": "r"}]}
+    line = verdict_line(row)
+    assert "FAIL" in line and "position 1.800e-01 m (tolerance 1.600e-04 m)" in line and "angle" not in line
+
+
+def test_a_fail_in_a_velocity_component_names_the_component_and_value():
+    from compare.checks.step_check import check_step, split_arrays
+    from custom_sim import simulate
+
+    scene = dataclasses.replace(load("box_slide"), duration=0.01)
+    states = simulate(scene).states()
+    states[50:, 3] += 1e-6          # vx off from step 50 on: position and angle stay within tolerance
+    row, _ = split_arrays(check_step(scene, states, scene.integrator, scene.dt))
+    assert row["pass"] is False
+    text = failure_text(row)
+    assert "vx off by 1.000e-06 at step 50" in text, text
+
+
+def test_a_misspelled_integrator_is_bad_input_naming_the_closest(tmp_path, capsys):
+    spec = write(tmp_path, 'INTEGRATOR = "Semi-implicit Euler"\n') + ":step"
+    out = tmp_path / "out"
+    code, _, err = run_cli(["run", "point_drop", "--sim", spec, "--out", str(out)], capsys)
+    assert code == 2 and "'semi_implicit_euler'" in err and "other:NAME" in err, err
+    assert not out.exists()
+    from compare.usersim.validate import main as validate
+    assert validate([str(ROOT / "examples" / "buggy_sim.py") + ":step", "box_drop"]) == 1
+    assert validate([spec, "point_drop"]) == 2
+
+
+def test_a_declared_unknown_integrator_is_judged_where_no_integrator_is_needed(tmp_path, short):
+    from compare.checks.scenario import run_scenario
+
+    sim = load_simulator(write(tmp_path, 'INTEGRATOR = "other:ode23"\n') + ":step")
+    result = run_scenario(short, sim)
+    rows = {c["name"]: c for c in result.checks}
+    for name in ("identical", "step"):
+        assert rows[name]["pass"] is None and rows[name]["position_error_max"] is None, rows[name]
+    assert all(c["integrator"] == "other:ode23" for c in result.checks if c["integrator"]), result.checks
+    assert {c["name"] for c in result.not_judged} >= {"identical", "step", "dynamics"}
+
+
+def test_checks_follow_the_integrator_the_simulator_declares():
+    """An RK4 simulator on a semi-implicit Euler scene: `contact` held the RK4 run to the
+    semi-implicit Euler run's integrator term, and failed it (point_drop: 6.2e-4 m against
+    1.6e-4 m)."""
+    from compare.checks.scenario import run_scenario
+
+    scene = dataclasses.replace(load("point_drop"), duration=0.6)
+    sim = load_simulator(str(ROOT / "tests" / "outsiders" / "oo_rk4.py") + ":step")
+    result = run_scenario(scene, sim)
+    rows = {c["name"]: c for c in result.checks}
+    assert all(c["integrator"] == "rk4" for c in result.checks if c["integrator"]), result.checks
+    assert rows["contact"]["pass"] is True, (rows["contact"]["position_error_max"], rows["contact"]["reason"])
+    assert rows["identical"]["pass"] is True and rows["step"]["pass"] is True
+    # another simulator's distance to the converged solution is model and integration together
+    assert "model and integration together" in rows["reference"]["isolates"], rows["reference"]
+
+
+# --- 2. the user's code cannot end, hang or steer the harness --------------------------------
+
+ENDINGS = {
+    "sys.exit in step": ("def step(z, scene, dt):\n    import sys\n    sys.exit(0)\n", "at step 1 called sys.exit(0)"),
+    "os._exit in step": ("def step(z, scene, dt):\n    import os\n    os._exit(0)\n", "at step 1 called os._exit(0)"),
+    "KeyboardInterrupt in step": ("def step(z, scene, dt):\n    raise KeyboardInterrupt\n",
+                                  "at step 1 raised KeyboardInterrupt"),
+    "sys.exit in the module": ("import sys\nsys.exit(0)\n", "called sys.exit(0)"),
+    "os._exit in the module": ("import os\nos._exit(0)\n", "called os._exit(0)"),
+}
+
+
+@pytest.mark.parametrize("case", ENDINGS)
+def test_user_code_ending_the_process_is_exit_2_naming_function_and_step(tmp_path, capsys, case):
+    body, said = ENDINGS[case]
+    spec = write(tmp_path, body) + ":step"
+    out = tmp_path / "out"
+    code, _, err = run_cli(["run", "point_drop", "--sim", spec, "--out", str(out)], capsys)
+    lines = [line for line in err.splitlines() if line.startswith("error:")]
+    assert code == 2 and len(lines) == 1 and said in lines[0] and "user_sim.py" in lines[0], err
+    assert not out.exists(), "bad input writes nothing"
+
+
+def test_the_users_module_cannot_change_numpy_matplotlib_or_the_folder(tmp_path, short):
+    import matplotlib
+    before = (np.geterr(), matplotlib.rcParams["text.usetex"], os.getcwd())
+    spec = write(tmp_path, f"""
+        import os, numpy, matplotlib
+        numpy.seterr(all="raise")
+        matplotlib.rcParams["text.usetex"] = True
+        os.chdir({str(tmp_path)!r})
+        """) + ":step"
+    sim = load_simulator(spec)
+    assert (np.geterr(), matplotlib.rcParams["text.usetex"], os.getcwd()) == before
+    run_user(sim, short)
+    assert (np.geterr(), matplotlib.rcParams["text.usetex"], os.getcwd()) == before
+
+
+def test_a_figure_that_fails_keeps_the_verdict():
+    from compare.report.plots import draw_all
+
+    def broken():
+        raise RuntimeError("latex not found\nmore")
+    warnings = []
+    drawn = draw_all({"energy": broken, "path": lambda: "path.png"}, warnings)
+    assert drawn == {"energy": None, "path": "path.png"}
+    assert len(warnings) == 1 and "RuntimeError: latex not found" in warnings[0]
+
+
+def test_a_step_importing_a_sibling_inside_step_works_from_any_folder(tmp_path, short, monkeypatch):
+    (tmp_path / "helper_forces.py").write_text("GRAVITY_SIGN = -1.0\n")
+    spec = write(tmp_path, """
+        def step(z, scene, dt):
+            import helper_forces
+            assert helper_forces.GRAVITY_SIGN == -1.0
+            return _seed_step(z, scene, dt)
+        """) + ":step"
+    monkeypatch.chdir(ROOT)
+    assert run_user(load_simulator(spec), short).states().shape == (short.steps + 1, 6)
+
+
+SLOW = "import time\ndef step(z, scene, dt):\n    time.sleep(0.01)\n    return _seed_step(z, scene, dt)\n"
+
+
+def test_a_slow_step_shows_progress_and_times_out(tmp_path, capfd):
+    from compare.commands.run import run_one
+    from compare.scene_processes import run_scenes
+
+    sim = load_simulator(write(tmp_path, SLOW) + ":step")
+    scene = load("point_drop")   # 50000 steps at 10 ms: far beyond the timeout
+    start = time.monotonic()
+    outcomes = run_scenes([scene], lambda s: run_one(s, str(tmp_path), sim), jobs=1, timeout=3.0)
+    took = time.monotonic() - start
+    status, why = outcomes["point_drop"].failure
+    assert status == "timeout" and "at point_drop at step" in why and took < 6.0, (why, took)
+    err = capfd.readouterr().err
+    assert "point_drop: step" in err and "steps/s" in err, err
+
+
+@pytest.mark.parametrize("to", ["the main process", "the process group"])
+def test_ctrl_c_stops_the_run_within_2_s_naming_scene_and_step(tmp_path, to):
+    """SIGINT to the main process (kill -INT), or to the whole group (Ctrl-C at a terminal)."""
+    spec = write(tmp_path, SLOW) + ":step"
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "compare", "run", "point_drop", "--sim", spec, "--out", str(out)],
+                            cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    deadline = time.monotonic() + 60
+    line = ""
+    while "steps/s" not in line and time.monotonic() < deadline:   # stepping has begun
+        line = proc.stderr.readline()
+    assert "steps/s" in line, line
+    if to == "the main process":
+        proc.send_signal(signal.SIGINT)
+    else:
+        os.killpg(proc.pid, signal.SIGINT)
+    sent = time.monotonic()
+    _, err = proc.communicate(timeout=10)
+    assert time.monotonic() - sent < 2.0 and proc.returncode == 130
+    assert "interrupted: point_drop at step" in err and "Traceback" not in err, err
+    assert not out.exists()
+
+
+# --- 3. scenes are independent, a report is whole ------------------------------------------
+
+STATEFUL = """
+_t = [0.0]
+def step(z, scene, dt):
+    # gravity ramped in over the first 0.1 s by a clock the module keeps (hidden state)
+    _t[0] += dt
+    scene = dict(scene, g=scene["g"] * min(1.0, _t[0] / 0.1))
+    return _seed_step(z, scene, dt)
+"""
+
+
+def test_each_run_starts_from_fresh_module_state(tmp_path):
+    scene = dataclasses.replace(load("point_drop"), duration=0.4)
+    sim = load_simulator(write(tmp_path, STATEFUL) + ":step")
+    first = run_user(sim, scene).states()
+    again = run_user(sim, scene).states()
+    assert np.array_equal(first, again), "a second run saw the first run's module state"
+
+
+def test_a_step_that_keeps_state_is_told_so(tmp_path):
+    from compare.usersim.purity import keeps_state
+
+    scene = dataclasses.replace(load("point_drop"), duration=0.4)
+    sim = load_simulator(write(tmp_path, STATEFUL) + ":step")
+    said = keeps_state(sim, scene, run_user(sim, scene).states())
+    assert said and said.startswith("your step keeps state between calls"), said
+    honest = load_simulator(write(tmp_path, "", name="honest") + ":step")
+    assert keeps_state(honest, scene, run_user(honest, scene).states()) is None
+
+
+def test_no_call_is_made_before_the_run(tmp_path):
+    log = tmp_path / "calls.txt"
+    spec = write(tmp_path, f"""
+        def step(z, scene, dt):
+            open({str(log)!r}, "a").write("call\\n")
+            return _seed_step(z, scene, dt)
+        """) + ":step"
+    sim = load_simulator(spec)
+    preflight(sim, [load("point_drop"), load("box_drop")])
+    assert not log.exists()
+
+
+def test_every_call_gets_a_fresh_copy_of_the_state(tmp_path, short):
+    spec = write(tmp_path, """
+        _kept = []
+        def step(z, scene, dt):
+            out = _seed_step(z.copy(), scene, dt)
+            for old in _kept:
+                old[:] = 0.0          # tampers with every array it was given before
+            z[:] = -1.0               # and with this one
+            _kept.append(z)
+            return out
+        """) + ":step"
+    honest = run_user(load_simulator(write(tmp_path, "", name="honest") + ":step"), short).states()
+    assert np.array_equal(run_user(load_simulator(spec), short).states(), honest)
+
+
+def test_a_fault_in_one_scene_is_its_row_and_the_report_is_replaced_whole(tmp_path, capsys):
+    spec = write(tmp_path, """
+        def step(z, scene, dt):
+            if scene["name"] == "box_slide" and z[0] > 0.01:
+                raise ZeroDivisionError("my bug")
+            if scene["name"] == "box_drop" and z[4] < -0.5:
+                return [float("nan")] * 6
+            return _seed_step(z, scene, dt)
+        """) + ":step"
+    scenes = [short_file(tmp_path, name, 0.3) for name in ("point_drop", "box_slide", "box_drop")]
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "calibration").mkdir()        # not part of a run's report: must stay
+    (out / "stale").mkdir()              # an older run's scenario page: must go
+    (out / "stale" / "metrics.json").write_text("{}")
+    code, stdout, err = run_cli(["run", *scenes, "--sim", spec, "--out", str(out)], capsys)
+    assert code == 1, (stdout, err)
+    assert "box_slide            error:" in stdout and "ZeroDivisionError: my bug" in stdout and "at step" in stdout
+    assert "box_drop             error:" in stdout and "non-finite state" in stdout
+    assert "point_drop           pass" in stdout, stdout
+    assert sorted(p.name for p in out.iterdir()) == ["calibration", "index.md", "point_drop"]
+    index = (out / "index.md").read_text()
+    assert "box_slide" in index and "box_drop" in index
+    # bad input on a later run: the report stays as it was, byte for byte
+    before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    bad = write(tmp_path, "def step(z, scene, dt):\n    return None\n", name="bad") + ":step"
+    code, _, err = run_cli(["run", scenes[0], "--sim", bad, "--out", str(out)], capsys)
+    assert code == 2 and "returned None" in err and "at step 1" in err, err
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+    left = [p for folder in (tmp_path, out) for p in folder.iterdir() if p.name.startswith(".")]
+    assert not left, f"temporaries left behind: {left}"
+
+
+# --- 4. variants the harness makes up are its own business ------------------------------------
+
+def test_a_step_refusing_the_contact_variant_leaves_that_check_not_judged(tmp_path):
+    from compare.checks.scenario import run_scenario
+
+    spec = write(tmp_path, """
+        def step(z, scene, dt):
+            if scene["contact"]["damping_law"] != "compression":
+                raise NotImplementedError("only the compression damping law is written")
+            return _seed_step(z, scene, dt)
+        """) + ":step"
+    scene = dataclasses.replace(load("point_drop"), duration=0.3)
+    result = run_scenario(scene, load_simulator(spec))
+    rows = {c["name"]: c for c in result.checks}
+    assert result.error is None
+    assert rows["contact"]["pass"] is None and "only the compression damping law is written" in rows["contact"]["reason"]
+    assert rows["identical"]["pass"] is True and rows["step"]["pass"] is True
+
+
+# --- 5. files and values are read as written -------------------------------------------------
+
+RETURNS = {
+    "a float": ("0.3", "returned a float 0.3"),
+    "a (1, 6) array": ("np.zeros((1, 6))", "returned an array of shape (1, 6)"),
+    "complex numbers": ("[1j, 0, 0, 0, 0, 0]", "item 0 is a complex"),
+    "a complex array": ("np.zeros(6, dtype=complex)", "dtype complex128"),
+    "None": ("None", "returned None"),
+    "five numbers": ("[0.0] * 5", "a list of 5 items"),
+    "a None inside": ("[None, 0, 0, 0, 0, 0]", "item 0 is None"),
+}
+
+
+@pytest.mark.parametrize("case", RETURNS)
+def test_a_return_that_is_not_six_real_numbers_is_bad_input(tmp_path, short, case):
+    value, said = RETURNS[case]
+    spec = write(tmp_path, f"import numpy as np\ndef step(z, scene, dt):\n    return {value}\n", seed=False) + ":step"
+    with pytest.raises(UserCodeError) as err:
+        run_user(load_simulator(spec), short)
+    assert said in str(err.value) and "at step 1" in str(err.value), str(err.value)
+
+
+def test_float32_is_accepted_with_a_warning_on_the_page(tmp_path, short):
+    from compare.checks.scenario import run_scenario
+
+    spec = write(tmp_path, "def step(z, scene, dt):\n    return np.asarray(_seed_step(z, scene, dt), dtype=np.float32)\n")
+    with pytest.warns(UserWarning, match="float32"):
+        states = run_user(load_simulator(spec + ":step"), short).states()
+    assert states.dtype == np.float64
+    result = run_scenario(short, load_simulator(spec + ":step"))
+    assert any("float32" in w for w in result.warnings), result.warnings
+
+
+def test_nan_exception_and_blow_up_are_the_scenes_fault_not_bad_input(tmp_path, short):
+    cases = {"raise": "raise ValueError('negative depth')", "nan": "return [np.nan] * 6",
+             "huge": "return [0.0, 1e300, 0.0, 0.0, 0.0, 0.0]"}
+    for name, body in cases.items():
+        spec = write(tmp_path, f"import numpy as np\ndef step(z, scene, dt):\n    if z[1] < 0.59:\n"
+                               f"        {body}\n    return _seed_step(z, scene, dt)\n", name=name) + ":step"
+        with pytest.raises(UserFault) as err:
+            run_user(load_simulator(spec), short)
+        assert "at step" in str(err.value), str(err.value)
+        assert isinstance(err.value, UserDiverged) == (name == "huge")
+    assert not issubclass(UserFault, UserCodeError) and issubclass(EndedProcess, UserCodeError)
+
+
+# --- the checks this issue changed fail on a real mistake ----------------------------------------
+
+def _stiffer(tmp_path, integrator_line: str) -> str:
+    """The outsider RK4 simulator with its contact stiffness 5 % high: a model mistake."""
+    text = (ROOT / "tests" / "outsiders" / "oo_rk4.py").read_text()
+    text = text.replace('INTEGRATOR = "rk4"', integrator_line)
+    text = text.replace('fn = self.c["k"] * depth', 'fn = 1.05 * self.c["k"] * depth')
+    text = text.replace('fn = max(0.0, self.c["k"] * depth', 'fn = max(0.0, 1.05 * self.c["k"] * depth')
+    assert text.count("1.05 *") == 2
+    path = tmp_path / "stiffer.py"
+    path.write_text(text)
+    return str(path) + ":step"
+
+
+@pytest.mark.parametrize("declared", ['INTEGRATOR = "rk4"', 'INTEGRATOR = "other:ode45"'])
+def test_contact_under_a_declared_integrator_fails_a_stiffness_mistake(tmp_path, declared):
+    """The contact check's integrator term now follows the declared integrator (and, for one the
+    harness does not know, the converged solution): it must not swallow a 5 % stiffness error."""
+    from compare.checks.contact_check import check_contact, contact_scene
+
+    scene = dataclasses.replace(load("point_drop"), duration=0.6)
+    sim = load_simulator(_stiffer(tmp_path, declared))
+    states = run_user(sim, contact_scene(scene)).states()
+    row = check_contact(scene, states, sim.integrator_for(scene))
+    assert row["pass"] is False, (row["position_error_max"], row["tolerance_position"], row["reason"])
+    honest = load_simulator(str(ROOT / "tests" / "outsiders" / "oo_rk4.py") + ":step")
+    row = check_contact(scene, run_user(honest, contact_scene(scene)).states(), declared.split('"')[1])
+    assert row["pass"] is True, (row["position_error_max"], row["tolerance_position"], row["reason"])
+
+
+def test_dynamics_with_a_files_rounding_still_fails_a_mistake(tmp_path):
+    """dynamics adds a CSV's half unit to its tolerance: a correct file at %.6f passes, a file of
+    a run with g 0.1 % off at the same %.6f fails."""
+    from compare.usersim import load_simulator as load_sim
+    from compare.checks.dynamics_check import check_dynamics
+    from custom_sim import simulate
+
+    scene = dataclasses.replace(load("box_slide"), duration=0.3)
+    rows = {}
+    for name, run_scene in {"right": scene, "wrong": dataclasses.replace(scene, g=scene.g * 1.001)}.items():
+        folder = tmp_path / name
+        folder.mkdir()
+        states = simulate(run_scene).states()
+        np.savetxt(folder / f"{scene.name}.csv", np.column_stack([np.arange(len(states)) * scene.dt, states]),
+                   fmt="%.6f", delimiter=",", header="t,x,y,theta,vx,vy,omega", comments="")
+        run = run_user(load_sim(trajectories=str(folder)), scene)
+        rows[name] = check_dynamics(scene, run.states(), scene.integrator, scene.dt, run.meta["rounding"])
+    assert rows["right"]["pass"] is True, rows["right"]["reason"]
+    assert rows["wrong"]["pass"] is False, (rows["wrong"]["position_error_max"], rows["wrong"]["tolerance_position"])
