@@ -4,15 +4,11 @@ runs on a process pool, and `study` and `play --video` say in one line what to i
 from __future__ import annotations
 
 import json
-import operator
-import os
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
-
-from compare.executor import PoolEngine, Store, Task
 
 ROOT = Path(__file__).resolve().parents[1]
 EXTRAS = ("dask", "distributed", "imageio", "imageio_ffmpeg")   # top-level modules of the extras
@@ -50,16 +46,17 @@ print(json.dumps(out))
 
 SWEEP_WITHOUT_DASK = """
 import dataclasses, json
-from compare import executor as engine
+from compare import executor
+from compare.executor.base import Executor
 from compare.tools.accuracy.workprecision import run_sweep
 from compare.scenarios import load
-assert not engine.dask_available()
+assert not executor.dask_available()
 seen = []
-real = engine.PoolEngine.run
+real = Executor.run
 def run(self, *a, **k):
     seen.append(type(self).__name__)
     return real(self, *a, **k)
-engine.PoolEngine.run = run
+Executor.run = run
 scene = dataclasses.replace(load("box_slide"), duration=DURATION)
 (sweep,) = run_sweep([scene], cache_dir=None, jobs=2, mujoco=False, stability=False,
                      ladders={"custom": LADDER})
@@ -112,45 +109,9 @@ def test_sweep_without_dask_runs_on_the_process_pool_with_the_same_errors():
 
     code = (HIDE + f"DURATION = {SWEEP_DURATION!r}\nLADDER = {SWEEP_LADDER!r}\n" + SWEEP_WITHOUT_DASK)
     got = json.loads(python(code))
-    assert set(got["engines"]) == {"PoolEngine"}
+    assert set(got["engines"]) == {"Pool"}
     scene = dataclasses.replace(load("box_slide"), duration=SWEEP_DURATION)
     ref = reference_task(scene, None)
     expected = [[r.integrator, r.dt, r.error_max, r.force_evals] for integ in INTEGRATORS
                 for r in custom_ladder(scene, integ, ref["states"], ref["energy_scale"], SWEEP_LADDER)]
     assert got["runs"] == json.loads(json.dumps(expected))
-
-
-def _divide_or_die(a: float, b: float) -> float:
-    """A task: a / b, and a = -1 ends the worker process at once (a crash, not an exception)."""
-    if a == -1:
-        os._exit(3)
-    return a / b
-
-
-def test_the_pool_splits_a_raising_task_and_marks_a_run_that_fails_twice(tmp_path):
-    """As test_study's test of the Dask engine, on the pool; results kept in the store are not
-    run again."""
-    def split(task):
-        return [Task("good", (1.0, 2.0), attempt=2), Task("bad", (1.0, 0.0), attempt=2)]
-
-    tasks = [Task("batch", (1.0, 0.0), runs=2), Task("alone", (3.0, 0.0)), Task("fine", (3.0, 4.0))]
-    store = Store(tmp_path)
-    store.save("kept", 42)
-    with PoolEngine(workers=2) as engine:
-        out = engine.run(operator.truediv, [*tasks, Task("kept", (1.0, 0.0))], desc="raising", split=split,
-                         store=store, failed=lambda task, reason: f"failed: {reason}", progress=False)
-    assert out["fine"] == 0.75 and out["good"] == 0.5 and out["kept"] == 42
-    assert out["bad"].startswith("failed: ZeroDivisionError") and out["alone"].startswith("failed: ZeroDivisionError")
-    assert "batch" not in out and engine.retried == 2
-    assert store.load("fine") == 0.75
-
-
-def test_a_worker_that_dies_fails_only_its_own_task_on_the_pool():
-    """A crash breaks the whole pool: a fresh one reruns what was lost; the task that crashes
-    twice is marked, every other one finishes."""
-    tasks = [Task(f"ok{i}", (float(i), 2.0)) for i in range(6)] + [Task("dies", (-1.0, 1.0))]
-    with PoolEngine(workers=2) as engine:
-        out = engine.run(_divide_or_die, tasks, desc="dying",
-                         failed=lambda task, reason: f"failed: {reason}", progress=False)
-    assert out["dies"] == "failed: the worker running it died"
-    assert {k: v for k, v in out.items() if k != "dies"} == {f"ok{i}": i / 2.0 for i in range(6)}

@@ -13,6 +13,7 @@ from __future__ import annotations
 import functools
 import os
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 from custom_sim.compile_cache import warm_up_in_parallel
@@ -61,6 +62,16 @@ def _load_simulator(args, scenes):
     return for_run(args, scenes)
 
 
+@dataclass
+class Outcome:
+    """What one scenario's process sent back: exactly one field is set."""
+
+    row: dict | None = None            # metrics.json of a scenario that reached a verdict
+    failure: tuple | None = None       # (status, why): no verdict (error, unstable, timeout)
+    bad_input: tuple | None = None     # (message, details): the user's code broke the protocol
+    details: str = ""                  # with a failure: the user's own traceback, where their code raised
+
+
 def one_line(exc: BaseException) -> str:
     """`Type: first line of the message`: the cause a report row shows."""
     text = str(exc).strip().splitlines()
@@ -71,7 +82,6 @@ def run_one(scene, out: str, simulator=None):
     """A scenario's process: run, judge and write it into `out`. Returns an Outcome: the
     metrics.json dict; or (status, cause) when no verdict could be reached; or the bad input
     the user's code gave (the whole run then writes nothing). Never raises."""
-    from ..scene_processes import Outcome
     from ..usersim import UserCodeError
     try:
         from mujoco_models import to_mjcf
@@ -99,6 +109,33 @@ def expected_cost(scene) -> float:
     from custom_sim import INTEGRATORS, mass_properties
     evals = INTEGRATORS[scene.integrator].evals_per_step or 2
     return scene.steps * evals * len(mass_properties(scene.body).points) + 2e5
+
+
+def run_scenes(scenes, work, jobs: int, timeout: float | None = None, cost=None) -> dict:
+    """work(scene) -> Outcome for every scene, each in a process forked for it alone
+    (compare/executor/processes.py: no state of a user's module passes from one scene to the
+    next, and a crash or a hang costs only that scene's row), at most `jobs` at once,
+    costliest first by cost(scene); a scene still running after `timeout` s is stopped.
+    Ctrl-C stops every process and raises Interrupted, naming each scene and its step."""
+    from ..executor import Task, make_executor
+    from ..executor.progress import StepLines
+
+    order = sorted(scenes, key=cost, reverse=True) if cost else list(scenes)
+    tasks = [Task(s.name, (s,), meta={"dt": s.dt}) for s in order]
+    with make_executor("processes", workers=max(1, jobs)) as executor:
+        return executor.run(work, tasks, desc="scenarios", progress=StepLines("scenarios"), timeout=timeout,
+                            retry=False, failed=functools.partial(_no_verdict, timeout=timeout))
+
+
+def _no_verdict(task, failure, timeout: float | None) -> Outcome:
+    """The row of a scenario whose process gave no Outcome: it raised outside run_one, died
+    (a crash outside Python), or ran past --timeout. Not run again: its crash is its verdict."""
+    if failure.kind == "timeout":
+        return Outcome(failure=("timeout", f"stopped after {timeout:g} s (--timeout), at {failure.detail}"))
+    if failure.kind == "died":
+        return Outcome(failure=("error", f"the process running it ended without a verdict ({failure.detail}): "
+                                         "a crash outside Python, or the machine stopping it"))
+    return Outcome(failure=("error", failure.reason.splitlines()[0]))
 
 
 def _number(value, unit: str) -> str:
@@ -162,7 +199,7 @@ def main(args) -> int:
 
 def _run(args) -> int:
     from ..report.publish import report_aside
-    from ..scene_processes import Interrupted, run_scenes
+    from ..executor import Interrupted
     from ..usersim import UserCodeError
 
     out = output_folder(args.out).resolve()   # before the user's module imports: its chdir cannot move it
@@ -195,7 +232,7 @@ def _run(args) -> int:
             details = [outcomes[s.name].details for s in scenes if outcomes[s.name].details]
             index = write_index(work, rows, failed)
     except Interrupted as exc:
-        print(f"interrupted: {exc}; nothing written", file=sys.stderr)
+        print(f"interrupted: {'; '.join(exc.where) or 'between two scenarios'}; nothing written", file=sys.stderr)
         return EXIT_INTERRUPTED
     index = out / index.name
     for r in rows:

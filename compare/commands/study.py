@@ -92,8 +92,8 @@ def main(args) -> int:
 
     engine = None
     if args.scheduler:   # a wrong address is bad input: found before anything is written
-        from ..executor import Engine
-        engine = Engine(scheduler=args.scheduler)
+        from ..executor import make_executor
+        engine = make_executor("dask", scheduler=args.scheduler)
     try:
         out.mkdir(parents=True, exist_ok=True)
         study = run_study(source, varies, integrators, out, scheduler=args.scheduler,

@@ -32,7 +32,7 @@ import numpy as np
 from custom_sim import Scene
 from custom_sim.model import initial_state
 
-from . import progress
+from ..executor import steps as progress
 from .base import STATE, UserRun, _check_initial, _first_bad_row, _Simulator, _state_text, declared_integrator
 from .errors import UserCodeError, UserFault, raised
 from .guard import user_code

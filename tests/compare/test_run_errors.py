@@ -26,7 +26,7 @@ def dying_worker(scene, out, simulator=None):
 def test_a_worker_that_dies_costs_only_its_scenario(tmp_path, monkeypatch):
     scenes = [load(str(short_scene(tmp_path, "point_drop", 0.3))),
               load(str(short_scene(tmp_path, "box_slide", 0.3)))]
-    from compare.scene_processes import run_scenes
+    from compare.commands.run import run_scenes
     out = tmp_path / "out"
     out.mkdir()
     outcomes = run_scenes(scenes, lambda s: dying_worker(s, str(out)), jobs=2)

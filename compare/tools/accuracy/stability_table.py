@@ -15,7 +15,6 @@ import argparse
 import json
 import math
 import sys
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from custom_sim import INTEGRATORS, Scene
@@ -147,8 +146,12 @@ def main(argv: list[str] | None = None) -> int:
         old = {(r["scene"], r["integrator"]): r for r in json.loads(Path(args.measured).read_text())}
         rows = [dict(old[(s.name, i)], **theory_columns(s, i)) for s, i in tasks]
     else:
-        with ProcessPoolExecutor(max(1, args.jobs)) as pool:
-            rows = list(pool.map(measure, *zip(*tasks)))
+        from ...executor import Task, make_executor
+
+        with make_executor("pool", workers=max(1, args.jobs)) as pool:
+            done = pool.run(measure, [Task(f"{s.name}-{i}", (s, i)) for s, i in tasks], desc="stability",
+                            progress=False)
+        rows = [done[f"{s.name}-{i}"] for s, i in tasks]
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=1, default=float))
     table = markdown(rows)

@@ -26,7 +26,7 @@ processes on a shared machine: see compare/tools/accuracy/benchmark.py); `wall_t
 
 Runs are kept only where stable (stability_search.energy_verdict on the grid states); a rung
 predicted to take longer than RUN_BUDGET is skipped (the ladder stops there). The tasks run
-on the engine (compare/executor.py): with Dask (the study extra) a local cluster of single-thread
+on the executor (compare/executor/): with Dask (the study extra) a local cluster of single-thread
 worker processes over every core, or an existing cluster; without it a local process pool.
 """
 from __future__ import annotations
@@ -354,13 +354,13 @@ _WEIGHT = {"mujoco_converged": 40, "mujoco": 10, "custom": 5, "stability_mujoco"
 def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: int | None = None,
               mujoco: bool = True, stability: bool = True, progress=None,
               ladders: dict | None = None, scheduler: str | None = None) -> list[SceneSweep]:
-    """Measure every scene on the engine (compare/executor.py): a local Dask cluster of `jobs`
+    """Measure every scene on the executor (compare/executor/): a local Dask cluster of `jobs`
     worker processes (a process pool when Dask is not installed), or the Dask cluster at
     `scheduler`; progress: show progress bars when given
     (any true value); ladders: {"custom": steps per grid interval, "mujoco": ...,
     "mujoco_converged": n} to replace LADDER, MUJOCO_LADDER and MUJOCO_CONVERGED_N (shorter
     runs in tests)."""
-    from ...executor import Task, make_engine
+    from ...executor import Task, make_executor
 
     cache = None if cache_dir is None else str(cache_dir)
     tasks = []
@@ -374,7 +374,8 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
             if stability:
                 tasks += [("stability_mujoco", s, name) for name in MUJOCO_INTEGRATORS]
     tasks.sort(key=lambda t: -_WEIGHT[t[0]] * t[1].duration)
-    with make_engine(scheduler=scheduler, workers=None if scheduler else (jobs or os.cpu_count() or 1)) as engine:
+    with make_executor("auto", scheduler=scheduler,
+                       workers=None if scheduler else (jobs or os.cpu_count() or 1)) as engine:
         references = engine.run(_task, [Task(s.name, ("reference", s, None, None, cache)) for s in scenes],
                                 desc="references", progress=bool(progress))
         keyed = {f"{kind}-{s.name}-{integ}": (kind, s.name, integ) for kind, s, integ in tasks}

@@ -17,7 +17,6 @@ import subprocess
 import sys
 import tempfile
 import time
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from ...report.atomic import finite_json
@@ -108,8 +107,12 @@ def main(argv=None) -> int:
         print(f"error: unknown mistake {', '.join(unknown)} (expected one of: {', '.join(known)})", file=sys.stderr)
         return 2
     chosen = [known[n] for n in args.names] or list(MISTAKES)
-    with ThreadPoolExecutor(max(1, args.jobs)) as pool:
-        results = list(pool.map(lambda m: run_mutant(m, args.scenes), chosen))
+    from ...executor import Task, make_executor
+
+    with make_executor("processes", workers=max(1, args.jobs)) as executor:   # each mutant waits on its own `run`
+        done = executor.run(run_mutant, [Task(m.name, (m, args.scenes)) for m in chosen], desc="mutants",
+                            progress=False, retry=False)
+    results = [done[m.name] for m in chosen]
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "mutation.json").write_text(finite_json(results, indent=2) + "\n")

@@ -3,7 +3,7 @@
     fields.py    --vary NAME=SPEC, the varied scene through the loader
     plan.py      points, runs, keys, batches
     measure.py   the pure task: a batch of runs -> rows (stable, errors, cost)
-    runner.py    references and batches on the engine (compare/executor.py), results kept
+    runner.py    references and batches on the executor (compare/executor/), results kept
     table.py     study.csv / study.parquet
     maps.py      heatmaps with the theory's stability limit
     report.py    DIR/index.md

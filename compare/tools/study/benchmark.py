@@ -116,7 +116,7 @@ def _warm() -> None:
 
 
 def study_times() -> list[dict]:
-    from ...executor import Engine
+    from ...executor import make_executor
     from ...scenarios import resolve
     from .fields import SceneSource, parse_vary
     from .runner import run_study
@@ -126,7 +126,7 @@ def study_times() -> list[dict]:
     integrators = ["explicit_euler", "semi_implicit_euler", "implicit_euler", "rk4"]
     out = []
     for workers, threads in ((1, 1), (2, 1), (1, 2)):
-        engine = Engine(workers=workers, threads_per_task=threads)
+        engine = make_executor("dask", workers=workers, threads_per_task=threads)
         folder = Path(tempfile.mkdtemp(prefix="study-bench-"))
         try:
             # warm every worker (imports, numba's cache), then the client with a one-run study

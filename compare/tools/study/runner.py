@@ -1,4 +1,4 @@
-"""A study from start to finish: plan, references, batches on the engine, the rows in plan order.
+"""A study from start to finish: plan, references, batches on the executor, the rows in plan order.
 
     run_study(source, varies, integrators, out, scheduler=None, workers=None, twin=True) -> Study
 
@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...executor import Engine, Store, Task
+from ...executor import Executor, Failure, Store, Task, make_executor
 from .fields import SceneSource, Vary
 from .measure import failed_rows, measure_batch, reference_states
 from .plan import BATCH_SECONDS, Point, _hash, batches, physics_scene, plan, sample_times
@@ -51,28 +51,28 @@ def load_done(store: Store) -> dict[str, dict]:
     return done
 
 
-def _batch_task(points: list[Point], refs: list, threads: int, twin: bool, attempt: int = 1) -> Task:
+def _batch_task(points: list[Point], refs: list, threads: int, twin: bool) -> Task:
     return Task(key=_hash(tuple(p.key for p in points)), args=(points, refs, threads, twin),
-                runs=sum(len(p.runs) for p in points), attempt=attempt)
+                runs=sum(len(p.runs) for p in points))
 
 
 def _split(task: Task) -> list[Task]:
-    """One task per run of the batch (second attempt)."""
+    """One task per run of the batch (run after the batch failed)."""
     points, refs, threads, twin = task.args
-    return [_batch_task([replace(p, runs=(run,))], [ref], threads, twin, attempt=2)
+    return [_batch_task([replace(p, runs=(run,))], [ref], threads, twin)
             for p, ref in zip(points, refs) for run in p.runs]
 
 
-def _failed(task: Task, reason: str) -> list[dict]:
-    return failed_rows(task.args[0], reason)
+def _failed(task: Task, failure: Failure) -> list[dict]:
+    return failed_rows(task.args[0], failure.reason)
 
 
 def run_study(source: SceneSource, varies: list[Vary], integrators: list[str], out: Path,
               scheduler: str | None = None, workers: int | None = None, twin: bool = True,
-              progress: bool = True, engine: Engine | None = None,
+              progress: bool = True, engine: Executor | None = None,
               batch_seconds: float = BATCH_SECONDS) -> Study:
-    """Run (or finish) the study whose kept results live in `out`; engine: an Engine to use
-    (default: one started for the study, on `scheduler` or a local cluster of `workers`)."""
+    """Run (or finish) the study whose kept results live in `out`; engine: the executor to use
+    (default: a Dask one started for the study, on `scheduler` or a local cluster of `workers`)."""
     start = time.perf_counter()
     points = plan(source, varies, integrators)
     store = Store(out / "batches")
@@ -83,7 +83,7 @@ def run_study(source: SceneSource, varies: list[Vary], integrators: list[str], o
     n_workers, threads, retried = 0, 1, 0
     if todo:
         own = engine is None
-        engine = engine or Engine(scheduler=scheduler, workers=workers)
+        engine = engine or make_executor("dask", scheduler=scheduler, workers=workers)
         try:
             n_workers, threads = engine.workers, engine.threads_per_task
             before = engine.retried
@@ -106,7 +106,7 @@ def run_study(source: SceneSource, varies: list[Vary], integrators: list[str], o
                  n_workers, threads, scheduler, twin, retried)
 
 
-def _references(engine: Engine, points: list[Point], cache: Path, progress: bool) -> dict:
+def _references(engine: Executor, points: list[Point], cache: Path, progress: bool) -> dict:
     """(states at the point's sample times, note) for every point, one solve per physics key at
     the union of its points' sample times."""
     groups: dict[str, list[Point]] = {}

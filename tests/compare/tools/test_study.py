@@ -15,7 +15,7 @@ import pytest
 
 from compare.cli import main
 from scene_types import BadInput
-from compare.executor import Engine
+from compare.executor import make_executor
 from compare.tools.study import table
 from compare.tools.study.fields import SceneSource, parse_values, parse_vary
 from compare.tools.study.measure import twin_rows
@@ -50,7 +50,7 @@ angle = 0.4
 
 @pytest.fixture(scope="module")
 def engine():
-    with Engine(workers=2) as eng:
+    with make_executor("dask", workers=2) as eng:
         yield eng
 
 
@@ -178,24 +178,6 @@ def test_a_killed_worker_loses_no_run_and_duplicates_none(engine, source, tmp_pa
     assert sorted(kept) == sorted(keys)      # each run written once
     # the cluster is whole again for the next test (the nanny restarts the worker)
     engine.client.wait_for_workers(2, timeout=120)
-
-
-def test_a_task_that_raises_is_split_and_a_run_that_fails_twice_is_marked(engine):
-    """operator.truediv as the task: (1, 0) raises every time, (1, 2) never."""
-    import operator
-
-    from compare.executor import Task
-
-    def split(task):
-        return [Task("good", (1.0, 2.0), attempt=2), Task("bad", (1.0, 0.0), attempt=2)]
-
-    tasks = [Task("batch", (1.0, 0.0), runs=2), Task("alone", (3.0, 0.0)), Task("fine", (3.0, 4.0))]
-    before = engine.retried
-    out = engine.run(operator.truediv, tasks, desc="raising", split=split,
-                     failed=lambda task, reason: f"failed: {reason}", progress=False)
-    assert out["fine"] == 0.75 and out["good"] == 0.5
-    assert out["bad"].startswith("failed: ZeroDivisionError") and out["alone"].startswith("failed: ZeroDivisionError")
-    assert "batch" not in out and engine.retried - before == 2
 
 
 def test_batches_give_every_worker_several_and_start_with_the_costliest():

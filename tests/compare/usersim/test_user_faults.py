@@ -185,7 +185,7 @@ SLOW = "import time\ndef step(z, scene, dt):\n    time.sleep(0.01)\n    return _
 
 def test_a_slow_step_shows_progress_and_times_out(tmp_path, capfd):
     from compare.commands.run import run_one
-    from compare.scene_processes import run_scenes
+    from compare.commands.run import run_scenes
 
     sim = load_simulator(write(tmp_path, SLOW) + ":step")
     scene = load("point_drop")   # 50000 steps at 10 ms: far beyond the timeout

@@ -1,9 +1,10 @@
-"""How far a scene's run has got, shared with the process that shows it.
+"""How far a task's run has got, shared with the process that shows it.
 
-The process running a scene publishes (steps reached, steps in the run, time stepping began)
-in its slot of a shared array; the parent reads it to show steps per second, to name the
-step reached when the user presses Ctrl-C, and to say where a scene was when it timed out.
-Outside such a process (a test, `validate`) publishing does nothing.
+The worker process running a task publishes (steps reached, steps in the run, time stepping
+began) in its slot of a shared array (a user's step function does, compare/usersim/functions.py);
+the executor reads it to show steps per second, to name the step reached when the user presses
+Ctrl-C, and to say where a task was when it timed out. Outside such a process (a test,
+`validate`) publishing does nothing.
 """
 from __future__ import annotations
 
