@@ -1,9 +1,9 @@
 """Worker processes on this machine, the common part of the processes and pool backends.
 
 Each worker is a child process with a pipe to this one and a slot of a shared array where the
-task it runs publishes its steps (steps.py). The children ignore Ctrl-C:
-this process takes it and stops them. A child that ends without an answer has died: its task
-fails with how it ended (exit code, signal).
+task it runs publishes its steps (steps.py). The children ignore Ctrl-C: this process takes it
+and stops them. A child that ends without an answer has died: its task fails with how it ended
+(exit code, signal).
 """
 from __future__ import annotations
 
