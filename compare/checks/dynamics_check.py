@@ -274,19 +274,16 @@ def _reason(row: dict, steps: int) -> str:
     return base
 
 
-def main(argv: list[str] | None = None) -> int:
-    """python -m compare.checks.dynamics_check [SCENE ...]: custom_sim against the dynamics
-    twin on each scene (default: every built-in and stress scene), both integrators."""
-    import sys
+def print_survey(names: list[str]) -> int:
+    """custom_sim against the dynamics twin on each scene (default: every built-in and stress
+    scene), both integrators, as a Markdown table (`python -m compare tools dynamics-survey`);
+    1 when a row fails, else 0."""
     import time
 
     from compare.scenarios import load
     from custom_sim import simulate
 
-    import argparse
-    parser = argparse.ArgumentParser(prog="python -m compare.checks.dynamics_check", description=main.__doc__)
-    parser.add_argument("scenes", nargs="*", metavar="SCENE", help="default: every built-in and stress scene")
-    names = parser.parse_args(argv if argv is not None else sys.argv[1:]).scenes or _all_scenes()
+    names = names or _all_scenes()
     print("| scene | integrator | steps | position (m) | angle (rad) | tolerance (m) | tolerance (rad) | "
           "bound | judged to (s) | friction h lambda | pass | s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -315,7 +312,3 @@ def _all_scenes() -> list[str]:
 
     root = Path(__file__).resolve().parents[2] / "scenarios"
     return [str(p) for p in sorted(root.glob("*.toml")) + sorted((root / "stress").glob("*.toml"))]
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

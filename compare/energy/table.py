@@ -1,7 +1,7 @@
 """The seed's claims about its integrators, measured: R(end) of custom_sim's run of every built-in
 scene with each integrator at the scene's dt (the energy the numerics made or lost).
 
-    python -m compare.energy.table            prints the markdown table the README shows
+    python -m compare tools energy-table      prints the markdown table the README shows
 """
 from __future__ import annotations
 
@@ -35,7 +35,3 @@ def markdown() -> str:
         cells = [v if isinstance(v, str) else f"{v[0]:+.2g}" for v in residuals(scene).values()]
         lines.append(f"| {name} | {scene.dt:g} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
-
-
-if __name__ == "__main__":
-    print(markdown())

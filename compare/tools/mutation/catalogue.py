@@ -1,7 +1,7 @@
 """Typical mistakes of a hand-written contact simulator, each an edit of custom_sim's source.
 
 Each mistake is one exact text replacement in one file of custom_sim (every occurrence, so a
-line the force law and its Jacobian share changes in both). `python -m compare.tools.mutation` puts
+line the force law and its Jacobian share changes in both). `python -m compare tools mutation` puts
 each into a copy of custom_sim and runs the default `run` on it: the harness earns trust only
 if every one of them makes `run` exit 1, named by the check that caught it.
 """

@@ -1,6 +1,6 @@
 """The mutation test's catalogue stays applicable: every mistake is one real edit of custom_sim.
 
-The mutation run itself (`python -m compare.tools.mutation`, a CI step of its own) compiles a copy of
+The mutation run itself (`python -m compare tools mutation`, a CI step of its own) compiles a copy of
 custom_sim per mistake; this fast test only guards that each edit still finds its text, so that
 a change to custom_sim cannot silently turn a mistake into a no-op.
 """
@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from compare.tools.mutation.__main__ import mutated_copy
+from compare.tools.mutation.mutants import mutated_copy
 from compare.tools.mutation.catalogue import MISTAKES
 
 ROOT = Path(__file__).resolve().parents[3]
