@@ -1,17 +1,18 @@
 """The command line: `python -m compare <command>`; each command lives in its own module.
 
-A command module (compare/commands/) has a docstring (its first line is the help),
+A command module (compare/commands/) has a docstring (its first paragraph is the help line),
 `add_arguments(parser)` and `main(args) -> int` (the exit status: 0 ok, 1 outside tolerance, 2
 bad input). A group of commands (`tools`, the developer tools) is a package under
-compare/commands/ whose __init__ holds SUBCOMMANDS, a name -> module table like COMMANDS below
-(and METAVAR, the word its help uses for one of them). A command reports bad input by raising SceneError or BadInput: `main`
-below turns either into one line on stderr and exit status 2, before anything is written.
+compare/commands/ whose __init__ holds SUBCOMMANDS, a name -> module table like COMMANDS below,
+and METAVAR, the word its help uses for one of them. A command reports bad input by raising
+SceneError or BadInput: `main` below turns either into one line on stderr and exit status 2,
+before anything is written.
 
-The tree is lazy: only the modules of the command named on the command line are imported (and
-only they declare their arguments); the others' help lines are read from their docstrings
-without importing them, and only when a list of commands is printed (`--help`, a mistyped
-name). Heavy imports (mujoco, matplotlib) stay inside a command's `main` or its logic module, so
-that `--help` and `list` start fast.
+The tree is lazy: only the module of the command named on the command line is imported (with
+its group's package), and only it declares its arguments; the others' help lines are read from
+their docstrings without importing them, and only when a list of commands is printed (`--help`,
+a mistyped or missing name). A command module's own imports stay light where it can (heavy ones
+inside `main`), so that its `--help` starts fast too.
 """
 from __future__ import annotations
 
