@@ -135,7 +135,7 @@ def test_a_mistake_in_custom_sim_fails_the_check_and_leaves_the_twin_alone(monke
 def twin_breaches(scene, integrator="semi_implicit_euler"):
     run = dataclasses.replace(scene, integrator=integrator)
     row = check_dynamics(run, simulate(run).states(), integrator, run.dt)
-    twin = simulate_dynamics(run, dynamics_check.MUJOCO_INTEGRATOR[integrator], run.dt).states()
+    twin = simulate_dynamics(run, dynamics_check.MUJOCO_TWIN[integrator], run.dt).states()
     return row, rule_breaches(row, twin, run.dt)
 
 
