@@ -1,33 +1,11 @@
 """Work-precision sweep: what each integrator's accuracy costs, in both simulators.
 
-For every scene (following DiffEqDevTools' work-precision diagrams, docs/physics.md "Accuracy
-against cost"):
-
-  reference    compare.oracle.reference: custom_sim's equations by DOP853 at tight tolerance with
-               every contact switch located as an event; its convergence is checked by the
-               change when the tolerance is tightened 100-fold, and its sensitivity by the
-               growth of a tiny change of the initial height (the error amplification).
-  custom       each of our four integrators at dt = GRID / n for n in LADDER, recording the
-               state every GRID seconds (custom_sim.Stepper, no per-step Python).
-  mujoco       each MuJoCo integrator at dt = GRID / n for n in MUJOCO_LADDER
-               (mujoco_models.simulate_mujoco), and MuJoCo's own converged solution: RK4 at
-               GRID / MUJOCO_CONVERGED_N, checked against RK4 at twice that step.
-
-Error of a run: e(t_k) = |p(t_k) - p_ref(t_k)|, the distance between the centres of mass (m)
-on the common grid t_k = k GRID; `error_max` = max_k e, `error_l2` = sqrt(mean_k e^2) (RMS).
-Ours and MuJoCo's are measured against our reference; MuJoCo's also against its own converged
-solution (`error_max_self`): numerical error alone, the rest is model difference.
-
-Cost of a run: time of the stepping alone, the minimum over repeats after a warm-up (the
-error run is the warm-up), and force evaluations (ours counted by custom_sim; MuJoCo's
-counted as stages per step: 4 for RK4, else 1). The time is the CPU time of the stepping
-thread (`cpu_time`; equal to the wall time on an idle core, and not inflated by other
-processes on a shared machine: see compare/tools/accuracy/benchmark.py); `wall_time` is kept beside it.
-
-Runs are kept only where stable (stability_search.energy_verdict on the grid states); a rung
-predicted to take longer than RUN_BUDGET is skipped (the ladder stops there). The tasks run
-on the engine (compare/executor.py): with Dask (the study extra) a local cluster of single-thread
-worker processes over every core, or an existing cluster; without it a local process pool.
+For every scene: the reference (compare.oracle.reference, DOP853 at tight tolerance), each of
+our integrators at dt = GRID / n for n in LADDER and MuJoCo's for n in MUJOCO_LADDER (s), and
+MuJoCo's own converged solution. Error: the COM distance (m) to the reference on the grid
+t_k = k GRID, max and RMS; cost: force evaluations and the CPU time (s) of the stepping, the
+minimum over repeats. Only stable runs are kept; a rung predicted over RUN_BUDGET is skipped.
+The method: docs/physics.md#8-accuracy-against-cost.
 """
 from __future__ import annotations
 
