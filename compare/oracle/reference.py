@@ -55,20 +55,11 @@ TOUCH_BAND = 1e-14           # m
 SPIN_BAND = 1e-14            # rad/s
 SLIP_BAND = 1e-14            # m/s: the sign friction's slip past zero at its event
 
-# A point on a clamped branch (linear, Hunt-Crossley: Fn = 0 while d > 0) feels no force, so the
-# solver may take a step as long as a flight's across its lift-off and a landing just after:
-# d goes + - + within the step and neither crossing is seen (only signs at a step's ends are).
-# Its motion is right, but the mode still counts the point touching. While one is clamped the
-# step is held to CLAMPED_STEP sqrt(m / k), a tenth of the contact's time scale 1/wn (a bounce
-# of a corner off the ground and back takes several of them); measured on box_drop (linear law)
-# a 19 ms step missed a 13 ms lift-off without it.
+# A clamped point (Fn = 0 while d > 0) lets the solver step over a lift-off and landing unseen:
+# its step is held to CLAMPED_STEP sqrt(m / k) (docs/oracle-laws.md#the-reference-modes-and-switches)
 CLAMPED_STEP = 0.1
-# The solver's own guess of a segment's first step is checked only at the step's end, not in
-# between, where the dense output answers t_eval: on point_drop a 7 ms first step in contact
-# (wn h = 1) passed its end-point test with the states in between 8e-10 m and 3e-8 m/s off
-# (the energy balance off by 1.4e-8 J). Each segment starts at FIRST_STEP sqrt(m / k), a tenth
-# of the contact's time scale, and the controller lengthens it (tenfold a step at most) where
-# the motion allows.
+# The solver's first guess is checked only at its end, not where t_eval reads the dense output:
+# each segment starts at FIRST_STEP sqrt(m / k), a tenth of the contact's time scale (same doc)
 FIRST_STEP = 0.1
 
 # More switches than this within ZENO_WINDOW seconds means a sliding mode this reference does not

@@ -383,13 +383,8 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
 
 
 # ---------------------------------------------------------------------------------------
-# The answer to "what is the cheapest way to reach 1 mm here?"
-#
-# Ranked by a cost that noise cannot move: force evaluations (then steps), counted, not timed.
-# Wall and CPU times are shown beside them; one time beats another only when they differ by more
-# than both measured spreads (clearly_faster), so a rerun on a busy machine gives the same answer.
-# Force evaluations compare like with like inside one simulator; implicit Euler also builds one
-# Jacobian per Newton iteration, which they do not count (its time beside them shows it).
+# The answer to "what is the cheapest way to reach 1 mm here?": ranked by force evaluations
+# (then steps), counted, not timed; times only beside them (docs/physics.md#8-accuracy-against-cost)
 
 
 def _error(run: Run, self_error: bool) -> float:
