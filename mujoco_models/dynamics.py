@@ -22,6 +22,7 @@ rolling resistance; friction_at="midpoint" applies friction where MuJoCo puts it
 from __future__ import annotations
 
 from scene_types.laws import law_text
+from scene_types.integrators import MUJOCO_TWIN, SAME_UPDATE
 from scene_types.schema import Scene
 from scene_types.trajectory import Trajectory
 
@@ -31,9 +32,6 @@ from .sites import contact_below_site
 
 INTEGRATORS = ("Euler", "RK4")
 STAGES = {"Euler": 1, "RK4": 4}   # mj_forward calls per mj_step: the law is evaluated once per call
-# custom_sim's integrator that takes the same update as each MuJoCo integrator
-SAME_UPDATE = {"Euler": "semi_implicit_euler", "RK4": "rk4"}
-MUJOCO_INTEGRATOR = {v: k for k, v in SAME_UPDATE.items()}
 
 
 def simulate_dynamics(scene: Scene, integrator: str = "Euler", dt: float | None = None, *,
@@ -43,7 +41,7 @@ def simulate_dynamics(scene: Scene, integrator: str = "Euler", dt: float | None 
     semi_implicit_euler and rk4 are accepted too); dt (s), default the scene's dt.
     native_normal, friction_at: module docstring; solref: the mapping of the native normal
     contact (default the scene's)."""
-    integrator = MUJOCO_INTEGRATOR.get(integrator, integrator)
+    integrator = MUJOCO_TWIN.get(integrator, integrator)
     if integrator not in INTEGRATORS:
         raise ValueError(f"the dynamics twin runs MuJoCo's Euler or RK4, not {integrator!r}: MuJoCo's "
                          f"implicit integrators leave passive forces out of their derivatives")

@@ -20,6 +20,8 @@ import time
 from pathlib import Path
 
 
+from scene_types.integrators import ORDER
+
 from ..cli import output_folder
 from ..report.atomic import finite_json, temporary_folder
 from ..scenarios import load_all
@@ -262,10 +264,8 @@ def cheapest_table(results, command: str = "python -m compare sweep") -> str:
 # Plot
 
 
-# The order of each integrator's energy residual R(end) as dt shrinks, away from contact events
-# (docs/energy-balance.md): the order of its error
-EXPECTED_ORDER = {"explicit_euler": 1, "semi_implicit_euler": 1, "implicit_euler": 1, "rk4": 4,
-                  "Euler": 1, "implicit": 1, "implicitfast": 1, "RK4": 4}
+# The energy residual R(end) shrinks with dt at the integrator's order (ORDER), away from contact
+# events (docs/energy-balance.md)
 ORDER_SLACK = 0.3   # a fitted slope this far below the order means something lowers it
 ORDER_POINTS = 3    # the finest steps: the asymptotic regime, where the order shows
 ROUNDOFF_ULPS = 10  # each step's energy sum rounds by a few eps of the energy: below 10 eps a step, R is round-off
@@ -318,7 +318,7 @@ def residual_rows(sweep) -> list[str]:
     rows = []
     for sim, integ in dict.fromkeys((r.simulator, r.integrator) for r in sweep.runs):
         runs = sweep.of(sim, integ)
-        order, expected = residual_order(runs, _floor(sweep)), EXPECTED_ORDER.get(integ)
+        order, expected = residual_order(runs, _floor(sweep)), ORDER.get(integ)
         values = ", ".join(f"{r.residual_end:.2g} ({r.dt:g} s)" for r in runs
                            if r.stable and math.isfinite(r.residual_end))
         note = ""

@@ -18,7 +18,7 @@ import numpy as np
 from custom_sim import INTEGRATORS, mass_properties
 from custom_sim.integrators import integrate
 from custom_sim.model import build_model, initial_state
-from custom_sim.simulate import blowup_guard, new_watch
+from custom_sim.runner import blowup_guard, new_watch
 
 from ...scenarios import load_all
 from ...table import stream

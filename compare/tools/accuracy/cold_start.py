@@ -36,7 +36,7 @@ ROOT = Path(__file__).resolve().parents[3]
 COMPILE_PROBE = """
 import dataclasses, numpy as np, custom_sim as cs
 from custom_sim.integrators import first_unhealthy
-from custom_sim.simulate import blowup_guard
+from custom_sim.runner import blowup_guard
 scene = cs.load_scene('scenarios/box_drop.toml')
 for name in cs.INTEGRATORS:
     traj = cs.simulate(dataclasses.replace(scene, duration=10 * scene.dt, integrator=name))

@@ -42,6 +42,7 @@ import numpy as np
 
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Stepper, mass_properties
 from custom_sim.energy import energy_parts
+from scene_types.integrators import MUJOCO
 
 from ...oracle import reference as ref_mod
 from .stability_search import energy_scale, energy_verdict
@@ -49,7 +50,6 @@ from .stability_search import energy_scale, energy_verdict
 GRID = 2e-3          # s: errors are measured every 2 ms (every step size below divides it)
 LADDER = (1, 2, 4, 10, 20, 40, 100, 200, 400, 1000)       # dt = 2 ms ... 2 us
 MUJOCO_LADDER = (1, 2, 4, 10, 20, 40, 100)                 # dt = 2 ms ... 20 us
-MUJOCO_INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
 MUJOCO_CONVERGED = "RK4"
 MUJOCO_CONVERGED_N = 400                                    # dt = 5 us
 RUN_BUDGET = 1.5      # s: longest single run a rung may take (predicted from the previous rung)
@@ -369,10 +369,10 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
         if stability:
             tasks += [("stability_custom", s, name) for name in INTEGRATORS]
         if mujoco:
-            tasks += [("mujoco", s, name) for name in MUJOCO_INTEGRATORS]
+            tasks += [("mujoco", s, name) for name in MUJOCO]
             tasks.append(("mujoco_converged", s, None))
             if stability:
-                tasks += [("stability_mujoco", s, name) for name in MUJOCO_INTEGRATORS]
+                tasks += [("stability_mujoco", s, name) for name in MUJOCO]
     tasks.sort(key=lambda t: -_WEIGHT[t[0]] * t[1].duration)
     with make_engine(scheduler=scheduler, workers=None if scheduler else (jobs or os.cpu_count() or 1)) as engine:
         references = engine.run(_task, [Task(s.name, ("reference", s, None, None, cache)) for s in scenes],
@@ -388,7 +388,7 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
         conv = {}
         if mujoco:
             conv = results[("mujoco_converged", s.name, None)]
-            for integ in MUJOCO_INTEGRATORS:
+            for integ in MUJOCO:
                 for r in results[("mujoco", s.name, integ)]:
                     if r.stable:
                         r.error_max_self, r.error_l2_self, _ = position_errors(r.states, conv["states"])
@@ -399,7 +399,7 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
         if stability:
             limits = [results[("stability_custom", s.name, i)] for i in INTEGRATORS]
             if mujoco:
-                limits += [results[("stability_mujoco", s.name, i)] for i in MUJOCO_INTEGRATORS]
+                limits += [results[("stability_mujoco", s.name, i)] for i in MUJOCO]
         out.append(SceneSweep(s, ref, runs, conv, limits))
     return out
 
