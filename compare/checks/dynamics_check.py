@@ -280,33 +280,33 @@ def main(argv: list[str] | None = None) -> int:
     import time
 
     from compare.scenarios import load
+    from compare.table import number, stream
     from custom_sim import simulate
 
     import argparse
     parser = argparse.ArgumentParser(prog="python -m compare.checks.dynamics_check", description=main.__doc__)
     parser.add_argument("scenes", nargs="*", metavar="SCENE", help="default: every built-in and stress scene")
     names = parser.parse_args(argv if argv is not None else sys.argv[1:]).scenes or _all_scenes()
-    print("| scene | integrator | steps | position (m) | angle (rad) | tolerance (m) | tolerance (rad) | "
-          "bound | judged to (s) | friction h lambda | pass | s |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     failed = 0
-    for name in names:
-        scene = load(name)
-        for integrator in MUJOCO_TWIN:
-            begin = time.perf_counter()
-            run = dataclasses.replace(scene, integrator=integrator)
-            row = check_dynamics(run, simulate(run).states(), integrator, run.dt)
-            failed += row["pass"] is False
-            print(f"| {scene.name} | {integrator} | {run.steps} | {_g(row['position_error_max'])} | "
-                  f"{_g(row['angle_error_max'])} | {_g(row['tolerance_position'])} | "
-                  f"{_g(row['tolerance_angle'])} | {row.get('bound')} | {_g(row.get('judged_until'))} | "
-                  f"{row.get('friction_step_number_max', 0.0):.3g} | {row['pass']} | "
-                  f"{time.perf_counter() - begin:.1f} |", flush=True)
+
+    def rows():
+        nonlocal failed
+        for name in names:
+            scene = load(name)
+            for integrator in MUJOCO_TWIN:
+                begin = time.perf_counter()
+                run = dataclasses.replace(scene, integrator=integrator)
+                row = check_dynamics(run, simulate(run).states(), integrator, run.dt)
+                failed += row["pass"] is False
+                yield [scene.name, integrator, str(run.steps),
+                       *(number(row.get(k), none="-") for k in ("position_error_max", "angle_error_max",
+                                                                 "tolerance_position", "tolerance_angle")),
+                       str(row.get("bound")), number(row.get("judged_until"), none="-"),
+                       f"{row.get('friction_step_number_max', 0.0):.3g}", str(row["pass"]),
+                       f"{time.perf_counter() - begin:.1f}"]
+    stream(["scene", "integrator", "steps", "position (m)", "angle (rad)", "tolerance (m)", "tolerance (rad)",
+            "bound", "judged to (s)", "friction h lambda", "pass", "s"], rows())
     return 1 if failed else 0
-
-
-def _g(v) -> str:
-    return "-" if v is None else f"{v:.3g}"
 
 
 def _all_scenes() -> list[str]:

@@ -10,7 +10,10 @@ from __future__ import annotations
 
 import argparse
 import statistics
+import sys
 import time
+
+from ..table import text
 
 # The budget one scene's identification is held to, for a plain numpy step function (s).
 BUDGET = 5.0
@@ -49,9 +52,9 @@ def main(argv=None) -> int:
     simulator = load_simulator(args.sim)
     scenes = load_all(args.scenes)
     identify_step(simulator, scenes[0])   # first use: imports and scipy's lazy modules, not timed
-    print(f"{'scene':<16} {'calls':>6} {'best s':>8} {'median s':>9} {'in step s':>10}")
-    worst = 0.0
+    worst, rows = 0.0, []
     for scene in scenes:
+        print(f"{scene.name} ...", file=sys.stderr, flush=True)
         times, own, calls = [], [], 0
         for _ in range(args.repeat):
             timed = _Timed(simulator)
@@ -61,7 +64,8 @@ def main(argv=None) -> int:
             own.append(timed.spent)
             calls = out["calls"]
         worst = max(worst, min(times))
-        print(f"{scene.name:<16} {calls:>6} {min(times):>8.3f} {statistics.median(times):>9.3f} {min(own):>10.3f}")
+        rows.append([scene.name, str(calls), f"{min(times):.3f}", f"{statistics.median(times):.3f}", f"{min(own):.3f}"])
+    print(text(["scene", "calls", "best s", "median s", "in step s"], rows, align=["left", *["right"] * 4]))
     print(f"slowest scene {worst:.3f} s (budget {BUDGET:g} s)")
     return 0 if worst <= BUDGET else 1
 

@@ -21,6 +21,7 @@ from custom_sim.model import build_model, initial_state
 from custom_sim.runner import blowup_guard, new_watch
 
 from ...scenarios import load_all
+from ...table import stream
 
 ROUNDS = 5
 
@@ -55,12 +56,12 @@ def main(argv: list[str]) -> None:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scenes", nargs="*", metavar="SCENE", help="default: the built-in scenes")
     argv = parser.parse_args(argv).scenes
-    print("| scene | integrator | steps | ns/step, chatter watched | ns/step, not watched | extra |")
-    print("|---|---|---|---|---|---|")
-    for scene in load_all(argv or None):
-        with_, without = cost(scene)
-        print(f"| {scene.name} | {scene.integrator} | {scene.steps} | {with_:.1f} | {without:.1f} | "
-              f"{with_ / without - 1:+.0%} |", flush=True)
+    def rows():
+        for scene in load_all(argv or None):
+            with_, without = cost(scene)
+            yield [scene.name, scene.integrator, str(scene.steps), f"{with_:.1f}", f"{without:.1f}",
+                   f"{with_ / without - 1:+.0%}"]
+    stream(["scene", "integrator", "steps", "ns/step, chatter watched", "ns/step, not watched", "extra"], rows())
 
 
 if __name__ == "__main__":

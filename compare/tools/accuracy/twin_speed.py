@@ -37,21 +37,21 @@ def speeds(scene, integrator: str, repeats: int = REPEATS) -> dict[str, float]:
 
 def main(argv: list[str] | None = None) -> int:
     from compare.scenarios import builtin_names, load
+    from compare.table import stream
 
     import argparse
     parser = argparse.ArgumentParser(prog="python -m compare.tools.accuracy.twin_speed", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scenes", nargs="*", metavar="SCENE", help="default: every built-in scene")
     names = parser.parse_args(argv if argv is not None else sys.argv[1:]).scenes or builtin_names()
-    print("| scene | integrator | native twin (ns/step) | dynamics twin, cfunc (ns/step) | "
-          "its model without callback (ns/step) |")
-    print("|---|---|---|---|---|")
-    for name in names:
-        scene = load(name)
-        for integrator in INTEGRATORS:
-            s = speeds(scene, integrator)
-            print(f"| {scene.name} | {integrator} | {s['native']:.0f} | {s['dynamics']:.0f} | {s['bare']:.0f} |",
-                  flush=True)
+    def rows():
+        for name in names:
+            scene = load(name)
+            for integrator in INTEGRATORS:
+                s = speeds(scene, integrator)
+                yield [scene.name, integrator, *(f"{s[k]:.0f}" for k in ("native", "dynamics", "bare"))]
+    stream(["scene", "integrator", "native twin (ns/step)", "dynamics twin, cfunc (ns/step)",
+            "its model without callback (ns/step)"], rows())
     return 0
 
 
