@@ -9,7 +9,10 @@ time the step function itself took (the rest is the identification's own work).
 from __future__ import annotations
 
 import statistics
+import sys
 import time
+
+from ..table import text
 
 # The budget one scene's identification is held to, for a plain numpy step function (s).
 BUDGET = 5.0
@@ -45,9 +48,9 @@ def print_times(spec: str, names: list[str], repeat: int = 3) -> int:
     simulator = load_simulator(spec)
     scenes = load_all(names)
     identify_step(simulator, scenes[0])   # first use: imports and scipy's lazy modules, not timed
-    print(f"{'scene':<16} {'calls':>6} {'best s':>8} {'median s':>9} {'in step s':>10}")
-    worst = 0.0
+    worst, rows = 0.0, []
     for scene in scenes:
+        print(f"{scene.name} ...", file=sys.stderr, flush=True)
         times, own, calls = [], [], 0
         for _ in range(repeat):
             timed = _Timed(simulator)
@@ -57,6 +60,7 @@ def print_times(spec: str, names: list[str], repeat: int = 3) -> int:
             own.append(timed.spent)
             calls = out["calls"]
         worst = max(worst, min(times))
-        print(f"{scene.name:<16} {calls:>6} {min(times):>8.3f} {statistics.median(times):>9.3f} {min(own):>10.3f}")
+        rows.append([scene.name, str(calls), f"{min(times):.3f}", f"{statistics.median(times):.3f}", f"{min(own):.3f}"])
+    print(text(["scene", "calls", "best s", "median s", "in step s"], rows, align=["left", *["right"] * 4]))
     print(f"slowest scene {worst:.3f} s (budget {BUDGET:g} s)")
     return 0 if worst <= BUDGET else 1

@@ -19,6 +19,7 @@ from compare.scenarios import load, load_builtins
 
 from ..oracle.one_step import METHODS
 from ..checks.step_check import check_step
+from ..table import stream
 
 
 def survey(scenes, window: int | None = None):
@@ -46,22 +47,25 @@ def print_survey(names: list[str], window: int | None = None) -> int:
     table; 1 when a step fails, else 0."""
     scenes = [load(s) for s in names] or load_builtins() + load_builtins("stress")
     bad = 0
-    print("| scene | integrator | steps | check s | largest residual / bound | verdict | first failing step |")
-    print("|---|---|---|---|---|---|---|")
-    for r in survey(scenes, window):
-        if "diverged" in r:
-            print(f"| {r['scene']} | {r['integrator']} | | | | diverged at step {r['diverged']} | |")
-            continue
-        row = r["row"]
-        where = ""
-        if not row["pass"]:
-            where = f"{row['first_step']} ({row['component']}; {row['phase']})"
-            bad += 1
-            verdict = "FAIL"
-            if r["unconverged"]:
-                verdict += f" (custom_sim's Newton unconverged on {r['unconverged']} step(s))"
-        else:
-            verdict = "pass"
-        print(f"| {r['scene']} | {r['integrator']} | {r['steps']} | {r['seconds']:.2f} | "
-              f"{row['bound_ratio_max']:.3g} | {verdict} | {where} |")
+
+    def rows():
+        nonlocal bad
+        for r in survey(scenes, window):
+            if "diverged" in r:
+                yield [r["scene"], r["integrator"], "", "", "", f"diverged at step {r['diverged']}", ""]
+                continue
+            row = r["row"]
+            where = ""
+            if not row["pass"]:
+                where = f"{row['first_step']} ({row['component']}; {row['phase']})"
+                bad += 1
+                verdict = "FAIL"
+                if r["unconverged"]:
+                    verdict += f" (custom_sim's Newton unconverged on {r['unconverged']} step(s))"
+            else:
+                verdict = "pass"
+            yield [r["scene"], r["integrator"], str(r["steps"]), f"{r['seconds']:.2f}",
+                   f"{row['bound_ratio_max']:.3g}", verdict, where]
+    stream(["scene", "integrator", "steps", "check s", "largest residual / bound", "verdict", "first failing step"],
+           rows())
     return 1 if bad else 0

@@ -17,9 +17,10 @@ import numpy as np
 from custom_sim import INTEGRATORS, mass_properties
 from custom_sim.integrators import integrate
 from custom_sim.model import build_model, initial_state
-from custom_sim.simulate import blowup_guard, new_watch
+from custom_sim.runner import blowup_guard, new_watch
 
 from ...scenarios import load_all
+from ...table import stream
 
 ROUNDS = 5
 
@@ -50,10 +51,10 @@ def cost(scene) -> tuple[float, float]:
 
 def print_table(names: list[str]) -> int:
     """The costs of the named scenes (default: the built-ins), in Markdown; 0."""
-    print("| scene | integrator | steps | ns/step, chatter watched | ns/step, not watched | extra |")
-    print("|---|---|---|---|---|---|")
-    for scene in load_all(names or None):
-        with_, without = cost(scene)
-        print(f"| {scene.name} | {scene.integrator} | {scene.steps} | {with_:.1f} | {without:.1f} | "
-              f"{with_ / without - 1:+.0%} |", flush=True)
+    def rows():
+        for scene in load_all(names or None):
+            with_, without = cost(scene)
+            yield [scene.name, scene.integrator, str(scene.steps), f"{with_:.1f}", f"{without:.1f}",
+                   f"{with_ / without - 1:+.0%}"]
+    stream(["scene", "integrator", "steps", "ns/step, chatter watched", "ns/step, not watched", "extra"], rows())
     return 0

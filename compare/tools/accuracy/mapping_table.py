@@ -50,12 +50,14 @@ def ns_per_step(scene: Scene, repeats: int = REPEATS) -> float:
 def print_table(names: list[str]) -> int:
     """The table of the named scenes (default: every built-in scene), in Markdown; 0."""
     from compare.scenarios import builtin_names, load
+    from compare.table import stream
 
     names = names or builtin_names()
-    print("| scene | penalty (m) | physical (m) | seed (m) | penalty vs our linear law (m) | CPU ns per mj_step |")
-    print("|---|---|---|---|---|---|")
-    for name in names:
-        e = mapping_errors(load(name))
-        print(f"| {name} | {e['penalty']:.3g} | {e['physical']:.3g} | {e['seed']:.3g} | "
-              f"{e['penalty_vs_linear_law']:.3g} | {e['ns_per_step']:.0f} |", flush=True)
+    def rows():
+        for name in names:
+            e = mapping_errors(load(name))
+            yield [name, *(f"{e[k]:.3g}" for k in ("penalty", "physical", "seed", "penalty_vs_linear_law")),
+                   f"{e['ns_per_step']:.0f}"]
+    stream(["scene", "penalty (m)", "physical (m)", "seed (m)", "penalty vs our linear law (m)", "CPU ns per mj_step"],
+           rows())
     return 0

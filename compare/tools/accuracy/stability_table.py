@@ -21,6 +21,7 @@ from custom_sim import INTEGRATORS, Scene
 from custom_sim.stability import available_energy, limit_modes, limits
 
 from ...scenarios import builtin_paths, load_all
+from ...table import markdown as markdown_table, number
 from .stability_search import custom_limit
 
 BISECTION = {"ratio": 1.005, "scan_points": 10}  # 0.5 %, then 10 steps 2 % apart below
@@ -100,15 +101,16 @@ def verdict(row: dict) -> str:
     return "ok"
 
 
-def _fmt(x: float) -> str:
-    return "-" if not math.isfinite(x) else f"{x:.3g}"
+HEADERS = ["scene", "integrator", "dt (s)", "contact (s)", "friction (s)", "rolling (s)", "theory: binding mode",
+           "measured (s)", "unstable just above (criterion)", "measured / theory", "verdict"]
+
+
+def _num(x: float, **options) -> str:
+    return number(x, nonfinite="-", **options)
 
 
 def markdown(rows: list[dict]) -> str:
-    head = ["| scene | integrator | dt (s) | contact (s) | friction (s) | rolling (s) | theory: binding mode |"
-            " measured (s) | unstable just above (criterion) | measured / theory | verdict |",
-            "|---|---|---|---|---|---|---|---|---|---|---|"]
-    lines = []
+    cells = []
     for r in rows:
         lim = r["limits"]
         ratio = r["measured"] / r["theory"] if math.isfinite(r["theory"]) and r["theory"] > 0 else math.nan
@@ -116,12 +118,11 @@ def markdown(rows: list[dict]) -> str:
         why = note(r)
         if why and not v.startswith("ok"):
             v = f"{v}: {why}"
-        lines.append(
-            f"| {r['scene']} | {r['integrator']} | {r['dt']:g} | {_fmt(lim.get('contact', math.inf))} | "
-            f"{_fmt(lim.get('friction', math.inf))} | {_fmt(lim.get('rolling_friction', math.inf))} | "
-            f"{_fmt(r['theory'])}: {r['binding']} | {r['text']} | {r['reason'] or '-'} | "
-            f"{'-' if math.isnan(ratio) else f'{ratio:.2f}'} | {v} |")
-    return "\n".join(head + lines)
+        cells.append([r["scene"], r["integrator"], f"{r['dt']:g}",
+                      *(_num(lim.get(k, math.inf)) for k in ("contact", "friction", "rolling_friction")),
+                      f"{_num(r['theory'])}: {r['binding']}", r["text"], r["reason"] or "-",
+                      _num(ratio, decimals=2), v])
+    return markdown_table(HEADERS, cells)
 
 
 def all_scenes(names: list[str]) -> list[Scene]:

@@ -36,15 +36,15 @@ def speeds(scene, integrator: str, repeats: int = REPEATS) -> dict[str, float]:
 def print_table(names: list[str]) -> int:
     """The speeds of the named scenes (default: every built-in scene), in Markdown; 0."""
     from compare.scenarios import builtin_names, load
+    from compare.table import stream
 
     names = names or builtin_names()
-    print("| scene | integrator | native twin (ns/step) | dynamics twin, cfunc (ns/step) | "
-          "its model without callback (ns/step) |")
-    print("|---|---|---|---|---|")
-    for name in names:
-        scene = load(name)
-        for integrator in INTEGRATORS:
-            s = speeds(scene, integrator)
-            print(f"| {scene.name} | {integrator} | {s['native']:.0f} | {s['dynamics']:.0f} | {s['bare']:.0f} |",
-                  flush=True)
+    def rows():
+        for name in names:
+            scene = load(name)
+            for integrator in INTEGRATORS:
+                s = speeds(scene, integrator)
+                yield [scene.name, integrator, *(f"{s[k]:.0f}" for k in ("native", "dynamics", "bare"))]
+    stream(["scene", "integrator", "native twin (ns/step)", "dynamics twin, cfunc (ns/step)",
+            "its model without callback (ns/step)"], rows())
     return 0

@@ -20,6 +20,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from ...report.atomic import finite_json
+from ...table import DASH, markdown
 from .catalogue import MISTAKES, Mistake
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -85,11 +86,11 @@ def index_page(results: list[dict]) -> str:
              f"{caught} of {len(results)} mistakes made `python -m compare run` exit 1.", "",
              "A mistake counts as caught when a judged check fails (or the run is unstable) on at least one "
              "scene; a scenario the harness could not judge (an error row) does not count.", "",
-             "| mistake | where (seed) | exit | caught by | scenes that failed | errors |", "|---|---|---|---|---|---|"]
-    for r in results:
-        errors = "; ".join(f"{k}: {v}" for k, v in r["errors"].items()) or "–"
-        lines.append(f"| **{r['name']}**: {r['what']} | {r['seed_line']} | {r['exit']} "
-                     f"| {', '.join(checks_named(r['by'])) or '**not caught**'} | {', '.join(r['by']) or '–'} | {errors} |")
+             *markdown(["mistake", "where (seed)", "exit", "caught by", "scenes that failed", "errors"],
+                       [[f"**{r['name']}**: {r['what']}", r["seed_line"], str(r["exit"]),
+                         ", ".join(checks_named(r["by"])) or "**not caught**", ", ".join(r["by"]) or DASH,
+                         "; ".join(f"{k}: {v}" for k, v in r["errors"].items()) or DASH]
+                        for r in results]).splitlines()]
     return "\n".join(lines) + "\n"
 
 

@@ -16,7 +16,7 @@ from compare.checks.step_check import check_step, split_arrays
 from custom_sim.chatter import WATCH_COLUMNS
 from custom_sim.integrators import INTEGRATORS, NEWTON_TOL, integrate
 from custom_sim.model import build_model, initial_state
-from custom_sim.simulate import blowup_guard
+from custom_sim.runner import blowup_guard
 
 import seed_box
 
