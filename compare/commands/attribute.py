@@ -31,13 +31,14 @@ def contact_table(results: list[tuple]) -> list[str]:
     lines = ["| scene | contact: difference (m, rad) | tolerance (m, rad) | judged until (s) | motion (m) "
              "| mapping error | verdict |", "|---|---|---|---|---|---|---|"]
     for scene, check, _ in results:
-        verdict = "not judged: " + check["reason"].removeprefix("not judged: ") if check["pass"] is None else (
-            "pass" if check["pass"] else "**FAIL**")
-        err = check.get("mapping_error", {}).get("relative_force_error")
-        lines.append(f"| {scene.name} | {_f(check['position_error_max'])}, {_f(check['angle_error_max'])} "
-                     f"| {_f(check['tolerance_position'])}, {_f(check['tolerance_angle'])} "
-                     f"| {_f(check.get('judged_until'))} of {_f(check.get('duration'))} "
-                     f"| {_f(check.get('motion_position'))} | {_f(err)} | {verdict} |")
+        verdict = "not judged: " + check.reason.removeprefix("not judged: ") if check.passed is None else (
+            "pass" if check.passed else "**FAIL**")
+        d = check.details
+        err = d.get("mapping_error", {}).get("relative_force_error")
+        lines.append(f"| {scene.name} | {_f(check.position_error_max)}, {_f(check.angle_error_max)} "
+                     f"| {_f(check.tolerance_position)}, {_f(check.tolerance_angle)} "
+                     f"| {_f(d.get('judged_until'))} of {_f(d.get('duration'))} "
+                     f"| {_f(d.get('motion_position'))} | {_f(err)} | {verdict} |")
     return lines
 
 
@@ -79,5 +80,6 @@ def main(args) -> int:
     print("\n".join(ladder_table(results)))
     if args.json:
         Path(args.json).write_text(json.dumps(
-            [{"name": s.name, "contact": c, "attribution": a} for s, c, a in results], indent=2, allow_nan=False) + "\n")
-    return 1 if any(c["pass"] is False for _, c, _ in results) else 0
+            [{"name": s.name, "contact": c.to_json(), "attribution": a} for s, c, a in results], indent=2,
+            allow_nan=False) + "\n")
+    return 1 if any(c.passed is False for _, c, _ in results) else 0

@@ -59,8 +59,9 @@ def main(argv=None) -> int:
             continue
         row = r["row"]
         where = ""
-        if not row["pass"]:
-            where = f"{row['first_step']} ({row['component']}; {row['phase']})"
+        if not row.passed:
+            d = row.details
+            where = f"{d['first_step']} ({d['component']}; {d['phase']})"
             bad += 1
             verdict = "FAIL"
             if r["unconverged"]:
@@ -68,7 +69,7 @@ def main(argv=None) -> int:
         else:
             verdict = "pass"
         print(f"| {r['scene']} | {r['integrator']} | {r['steps']} | {r['seconds']:.2f} | "
-              f"{row['bound_ratio_max']:.3g} | {verdict} | {where} |")
+              f"{row.details['bound_ratio_max']:.3g} | {verdict} | {where} |")
     return 1 if bad else 0
 
 
