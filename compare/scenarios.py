@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from custom_sim import Scene, SceneError, load_scene
+from scene_types import Scene, SceneError, load_scene
 
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 GROUPS = {"builtin": SCENARIO_DIR, "stress": SCENARIO_DIR / "stress"}

@@ -6,7 +6,7 @@ clear_if_sources_changed()
 from .bodies import MassProperties, mass_properties  # noqa: E402
 from .integrators import INTEGRATORS, Integrator
 from scene_types import Scene, SceneError, load_scene, parse_scene
-from .simulate import SimulationChattered, SimulationDiverged, Stepper, simulate
+from .runner import SimulationChattered, SimulationDiverged, Stepper, simulate
 from .stability import stable_step
 from scene_types import CsvError, Trajectory, read_csv, write_csv
 

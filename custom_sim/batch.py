@@ -33,7 +33,7 @@ from .integrators import (FORCE_EVALS, IMPLICIT_EULER, INTEGRATORS, NEWTON_ITERS
                           integrate_implicit)
 from .model import Model, build_model, initial_state
 from scene_types.schema import Scene
-from .simulate import blowup_guard
+from .runner import blowup_guard
 
 # OpenMP threads that finish their share of a batch sleep instead of spinning: a spinning
 # thread takes the core from the one still working (measured: a batch of 16 short runs on two

@@ -1,41 +1,19 @@
 """Chatter: the instability that stays bounded. The one definition the whole harness uses.
 
 A run is *stable* when it neither blows up (integrators.is_healthy) nor chatters. It
-*chatters* at step i when, for one contact point that touches the ground (depth d > 0) at
-every step, or every other step, of the last CHATTER_STEPS steps (a body hopping at period 2
-touches every other step), its slip velocity vc_x = vx - omega r_y, or its normal
-velocity vc_y = vy + omega r_x, has
+*chatters* at step i when one contact point, touching the ground at every step or every other
+step of the last CHATTER_STEPS, has its slip velocity vc_x = vx - omega r_y or its normal
+velocity vc_y = vy + omega r_x (m/s)
 
-  1. changed sign at every one of those steps (a step-to-step flip), each value above
-     FLIP_FLOOR in size, and
-  2. not decayed over them, |v_i| >= NO_DECAY |v_(i - CHATTER_STEPS)|, or (the slip only) stayed
-     where the tanh friction law is saturated, alpha |v| >= 1 at both ends of them.
+  1. change sign at every one of those steps, each value above FLIP_FLOOR in size, and
+  2. not decay over them, |v_i| >= NO_DECAY |v_(i - CHATTER_STEPS)|, or (the slip only) stay
+     where the friction law is saturated, alpha |v| >= 1 at both ends.
 
-Why this is numerical and never physical: a motion the step resolves (a physical rocking,
-a bounce, a stick-slip that reverses once) changes sign at most once every few steps; a sign
-flip at *every* step is energy at the grid's Nyquist frequency, a period-2 component of the
-state. A linear mode with step amplification -1 < lambda < 0 flips too, but decays by
-|lambda|^CHATTER_STEPS, and is stable; condition 2 keeps it out, so the detector fires where
-|lambda| reaches 1, which is where linear theory (stability.py) puts the limit. Past it the
-period-2 component grows (a resting body's normal velocity: stability.py's "rest" mode) or
-is held at a bounded limit cycle by the saturation of tanh (friction chatter: the slip
-flips between about +- h mu Fn / m_t, an amplitude that follows the load Fn, so it shrinks as
-an impact unloads). A saturated flip is chatter whatever its trend: a saturated friction
-force changes the slip by s = h mu Fn / m_t per step, and two flips in a row above 1 / alpha
-need s > 2 / alpha, i.e. h lambda_f > 2 with lambda_f = mu alpha Fn / m_t, past the limit. In
-free flight nothing flips (the motion is ballistic), so
-every period-2 component of the state shows at a contact point's slip or normal velocity.
+    chattering_point(model, points, z, watch)   the compiled tracker, after every step
+    unstable_law(scene, integrator)             why no step is stable under a bare sign law
 
-A bare sign law (friction_law or roll_law "sign") has no regularised band: under either Euler
-method a point that should stick is kicked by the whole h mu Fn / m_t every step, whatever h,
-so its slip flips for ever at that amplitude. Every flip is saturated (its saturation speed is
-0), so such a run is chatter at any step, and unstable_law() names the law that no step size
-makes stable. (RK4's stages cancel there instead: a constant creep, which is no chatter.)
-
-FLIP_FLOOR keeps round-off out: a body at rest carries velocities of |y| eps k h / m ~ 1e-17 m/s
-whose sign is noise. CHATTER_STEPS makes a run of flips by chance (noise that is still above
-the floor) as unlikely as 2^-8 = 4e-3 per point and step; nothing but round-off is that
-irregular in these runs, and the floor keeps round-off out.
+Why a flip at every step is numerical, never physical, and what sets the constants:
+docs/stability.md#definition.
 """
 from __future__ import annotations
 
@@ -67,8 +45,8 @@ def chattering_point(model, points, z, watch):
     index of a contact point that chatters (its FLAG set to SLIP or NORMAL), or -1.
 
     Per point and quantity q (0: slip, 1: normal): the previous value (column q), the run of
-    flips (2 + q) and the size at the start of the current window (4 + q). Written as one loop
-    without a helper function: a call per quantity cost 100 ns a step, the loop 3 ns."""
+    flips (2 + q) and the size at the start of the current window (4 + q). One loop, no helper
+    function per quantity (the cost: docs/stability.md#what-watching-costs)."""
     theta, vx, vy, om = z[2], z[3], z[4], z[5]
     saturated = math.inf                 # the slip speed above which friction is saturated
     if model.friction:
@@ -113,7 +91,7 @@ def chattering_point(model, points, z, watch):
 
 def unstable_law(scene, integrator: str | None = None) -> str | None:
     """Why no step size is stable for the scene's law under an explicit integrator (default:
-    the scene's): a bare sign friction or rolling law (see the module docstring). None when
+    the scene's): a bare sign friction or rolling law (docs/stability.md#definition). None when
     some step is, and for implicit Euler, which sticks (integrators.implicit_euler_step)."""
     method = integrator or scene.integrator
     ct, why = scene.contact, []

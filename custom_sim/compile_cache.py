@@ -79,7 +79,7 @@ def warm_up(stream=None, part=None) -> float:
 
     from .integrators import INTEGRATORS, first_unhealthy
     from scene_types.schema import parse_scene
-    from .simulate import blowup_guard, simulate
+    from .runner import blowup_guard, simulate
 
     start = time.perf_counter()
     if needs_compiling():

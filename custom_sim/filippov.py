@@ -1,29 +1,12 @@
 """Implicit Euler's step where its equation has no root: on the jump of a touchdown (Filippov).
 
-Implicit Euler solves G(v1) = v1 - v0 - h a(q0 + h v1, v1) = 0. A contact point j that touches
-down switches its load on at depth d_j = 0, and there the load does not start from zero: the
-damper pushes with c |vc_y| at once (compression, linear and unclamped laws; hunt_crossley's
-k d (1 - D vc_y) starts from zero and has no jump). So G jumps, by -h f_j with f_j the
-point's acceleration at d_j = 0, across the surface d_j(q0 + h v1) = 0 of velocity space, and
-may jump over zero: no v1 solves G = 0 (Newton then stalls on the jump). The step is then the
-point of the jump that the convex hull of the two sides solves (Filippov's solution):
-
-    d_j(q0 + h v1) = 0                                             (on the ground)
-    G_lam(v1) = v1 - v0 - h (a_out + lam f_j)(q0 + h v1, v1) = 0,  0 <= lam <= 1
-
-a_out being the acceleration without point j; a_out + lam f_j is a with point j's load scaled
-by lam (forces.held_share). Four equations in (v1, lam), solved by Newton:
-
-    M dv - h f_j dlam = -G_lam,      M = dG_lam/dv1 = I - h (h da/dq + da/dv)
-    h grad_q d_j . dv = -d_j,        grad_q d_j = (0, -1, -rot r_x)   (d_j = -(y + r_y))
-
-Eliminate dv = p + dlam w with p = M^-1 (-G_lam) and w = M^-1 (h f_j) (two 3x3 solves):
-
-    dlam = -(d_j + h grad_q d_j . p) / (h grad_q d_j . w)
-
-G_lam is linear in lam and smooth in v1 on the ground's side that carries the damper, so plain
-Newton converges in a few iterations. The step is accepted when it has converged, the point is on
-the ground and lam lies in [0, 1]; otherwise there is no such point and the caller keeps its own.
+Where a touching-down point's damper makes G(v1) = v1 - v0 - h a(q0 + h v1, v1) jump over zero,
+the step is taken on the jump: the point on the ground, d_j(q0 + h v1) = 0 (m), and
+v1 - v0 - h (a_out + lam f_j) = 0 with 0 <= lam <= 1 (a_out the acceleration without point j,
+f_j its own; forces.held_share). jump_step solves these four equations for v1 (m/s, rad/s) and
+lam by Newton, with two 3x3 solves per iteration. The step is accepted when it converges with
+the point on the ground and lam in [0, 1]; otherwise the caller keeps its own.
+Derivation: docs/implicit-euler.md#the-jump-steps-newton-iteration.
 """
 from __future__ import annotations
 
@@ -52,7 +35,7 @@ def nearest_point(model, points, z):
 @njit(cache=True)
 def jump_step(model, points, z0, zi, h, fx, fy, tau, counters, work, step_tol, residual_tol):
     """From zi (velocities near the jump, positions q0 + h v1), Newton on the two conditions of
-    the module docstring for the point nearest the ground. Returns (accepted, iterations); on
+    docs/implicit-euler.md for the point nearest the ground. Returns (accepted, iterations); on
     acceptance zi holds (q1, v1) on the jump, otherwise zi is garbage (the caller restores it).
     Scratch: work rows 2-4 (Jacobian), 5-7 and 11-13 (the Newton matrix twice), 8-9, 14-16."""
     jac = work[2:5]

@@ -2,71 +2,13 @@
 
     limits(scene, integrator) -> {"contact": h, "friction": h, "rolling_friction": h}   (s; inf: none)
     stable_step(scene, integrator) = min(limits), a float with .reason (what sets it; why 0)
-    limit_modes(scene, integrator) -> every mode's limit, each with what sets it
+    limit_modes(scene, integrator) -> every mode's limit (s), each with what sets it
 
-"Stable" means what custom_sim/chatter.py defines: no blow-up and no chatter. Each effect
-adds a stiff mode near a contact; each limit is the step at which that mode's amplification
-reaches 1, for the method's one-step map (or, for a piecewise law, the map over a cycle).
-
-Contact (spring k and damper c at the points that touch). The modes are those of the body on
-one touching point (all angles at which it is the lowest point) or on two (a support edge
-level with the ground): w^2 the eigenvalues of M^-1 K in (y, theta), K = k sum J^T J with
-J = [1, r_x], M = diag(m, I). The damper is c / k times K, so each mode has zeta = c w / (2 k)
-(one point: zeta = c / (2 sqrt(k m_eff)), 1/m_eff = 1/m + r_x^2 / I). The stiffest mode binds.
-
-  linear law (Kelvin-Voigt, damps both ways): a linear oscillator while touching; a bounce is
-    the same map until the clamp lets go, so bounce and rest share the limit
-      explicit Euler   |1 + h lambda|^2 = 1 - 2 zeta w h + (w h)^2 < 1:   h < 2 zeta / w = c / k
-                       (the per-bounce energy balance below gives the same, to first order)
-      semi-implicit    Jury test on the 2 x 2 map: h w < 2 (sqrt(1 + zeta^2) - zeta)
-      RK4              |R(h lambda)| < 1, R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24, solved numerically
-  unclamped law (damps both ways, may pull): the same linear oscillator, without the clamp
-  hunt_crossley law (Fn = k d (1 - D vc_y), D the dissipation): linearised at depth d its
-    damper is k d D (N s/m), zeta = d D w / 2, growing with the depth. At the impact's peak
-    depth (the deepest, most damped) and, with gravity, at the lightest resting depth:
-      semi-implicit,   the linear oscillator's limit at both depths; more damping lowers these
-      RK4              limits, so the peak binds
-      explicit Euler   damping is what makes it stable: the linear limit at the resting depth,
-                       h < d_rest D, and the energy balance of the compression law's below,
-                       h w < 2 int(P) / int(a^2 + v^2), with the damper's power P = D w x x'^2
-                       along the exact motion of the hardest impact (speed v_n) sagging under
-                       gravity to the resting depth (at v_n = 0 it gives h < d_rest D again)
-  compression law (damps only while a point moves into the ground): the map switches between
-    A_d (damped) and A_u (undamped) by the sign of vc_y at the step's start
-      explicit Euler   grows by 1 + (w h)^2 per step undamped: only a cycle's energy balance
-                       can be stable. Per step, with E = v^2 + w^2 x^2 and a = -w^2 x - 2 zeta w v s,
-                       E1 - E0 = -4 zeta w h s v^2 + h^2 (a^2 + w^2 v^2), so over a cycle
-                       h < 4 zeta w int(s v^2 dt) / int(a^2 + w^2 v^2 dt), integrated along the
-                       exact motion: a bounce (compression damped, from touchdown to the deepest
-                       point, t_c = arccos(zeta) / w_d; release undamped, t_r = pi / (2 w)) and a
-                       small oscillation at rest (the half cycle down damped, the half up not)
-      semi-implicit,   a resting body past the limit oscillates at period 2: vc_y flips every
-      RK4              step, so A_d and A_u alternate, and it grows when A_u A_d has a real
-                       eigenvalue above 1 whose eigenvector keeps that pattern; and rho(A_d),
-                       rho(A_u) <= 1 (solved numerically on the exact maps). Semi-implicit Euler
-                       then lands on the Jury limit with zeta / 2: h w < 2 (sqrt(1 + zeta^2/4) - zeta/2)
-
-Friction (tanh law; the ramp and smooth_coulomb laws have the same slope mu Fn alpha at zero
-slip, so the same rate). Its rate is lambda_f = mu alpha Fn / m_t (1/s), m_t the smallest
-tangential effective mass (1/m_t = 1/m + r_y^2 / I at the angles where the point is lowest),
-at the largest load Fn a point carries: at rest m g (the whole weight on one point), at an
-impact the peak of k d + c max(0, -vc_y) for the impact speed v_n at the smallest normal
-effective mass m_n: Fn_peak = v_n sqrt(k m_n) f(zeta_n) + m g, f the peak of x + 2 zeta x' of
-the unit oscillator (f(0) = 1), with m_n v_n^2 / 2 = E_n, the energy that can reach the
-contact normal: E(0) minus the body's lowest reachable pose (a resting box cannot tip onto a lower
-face without the energy to lift its COM over the corner) minus the horizontal kinetic energy m vx^2/2
-(which only friction changes, and friction only takes it away: an estimate, not a bound,
-for a body that could trip over its own slide), and minus the spin's I omega^2 / 2 for a disk
-or a point (whose contact normal passes through the COM: no lever turns spin into a push). Then h lambda_f < 2 (both Euler methods:
-|1 - h lambda| < 1) and < 2.785 (RK4 on the negative real axis). Rolling resistance
-(mu_roll Fn tanh(S omega), S the scene's roll_sharpness): lambda_r = mu_roll S Fn / I, same bounds.
-The impact's load profile follows the damping law (unclamped as linear; hunt_crossley its own).
-
-A bare sign law (friction or rolling) is an infinite rate at zero slip: no step is stable for
-an explicit method once a point should stick (both Euler methods chatter, RK4 creeps:
-chatter.unstable_law): its limit is 0, and stable_step's reason says why.
-
-Implicit Euler's map (1 - h J)^-1 is contractive for every h: no limit.
+"Stable" is custom_sim/chatter.py's: no blow-up, no chatter. Each limit is the step at which one
+stiff mode's amplification reaches 1: the contact's spring-damper modes (per damping law), the
+friction's rate mu alpha Fn / m_t and the rolling resistance's mu_roll S Fn / I (1/s), at the
+largest load Fn (N) a point carries. A bare sign law's limit is 0; implicit Euler has none.
+Derivations: docs/stability.md#theory.
 """
 from __future__ import annotations
 
@@ -196,7 +138,9 @@ def reachable_clearance(scene: Scene) -> float:
 
 
 def normal_energy(scene: Scene) -> float:
-    """E_n (J): the energy that can reach a contact's normal (see the module docstring)."""
+    """E_n (J): the energy that can reach a contact's normal: kinetic and potential energy above
+    the lowest reachable pose, less m vx^2 / 2, and less the spin's where no lever can turn it into
+    a push (docs/stability.md#friction-and-rolling-resistance)."""
     cfg = _configurations(scene.body)
     i = scene.initial
     e = 0.5 * cfg["mass"] * i.velocity[1] ** 2
@@ -454,7 +398,7 @@ def resting_depth(scene: Scene) -> float:
 def hunt_crossley_limit(scene: Scene, method: str, w: float) -> dict[str, float]:
     """hunt_crossley's contact limits (s) for the mode w (rad/s): the linear oscillator's with
     the damper k d D linearised at the impact's peak depth and at the resting depth, and for
-    explicit Euler the energy balance of the hardest impact (module docstring)."""
+    explicit Euler the energy balance of the hardest impact (docs/stability.md#contact)."""
     dissipation = scene.contact.dissipation
     hit = impact(scene)
     rest = resting_depth(scene)
@@ -533,8 +477,8 @@ def limits(scene: Scene, integrator: str | None = None) -> dict[str, float]:
 
 
 def stable_step(scene: Scene, integrator: str | None = None) -> StableStep:
-    """Largest stable step (s) by the theory above; inf when nothing limits it. Its .reason
-    names the mode that sets it, or, when it is 0 under a bare sign law, why no step is."""
+    """Largest stable step (s) by the theory (docs/stability.md#theory); inf when nothing limits
+    it. Its .reason names the mode that sets it, or, when it is 0 under a bare sign law, why no step is."""
     modes = {m: h for m, h in limit_modes(scene, integrator).items() if math.isfinite(h)}
     if not modes:
         return StableStep(math.inf)

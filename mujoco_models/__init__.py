@@ -2,22 +2,16 @@
 returned as the same Trajectory type as custom_sim.simulate. Nothing here is derived from
 custom_sim: only the shared types (scene_types: the scene, its law, the Trajectory) are imported.
 
-Two twins of one body (mass, COM, inertia and contact points from rigid_body.py, written into
-an explicit <inertial>; contact sites at the contact points; energy sensors):
-
-    native     MuJoCo's own contact: explicit pairs with condim from the scene's effects and one
-               of three solref mappings (penalty | physical | seed)
+    native     MuJoCo's own contact, one of three solref mappings (penalty | physical | seed)
                simulate_mujoco(scene, solref=None, integrator=None, dt=None)          run.py
-    dynamics   no contact pairs: the scene's penalty law (any family), written again (contact_law.py), applied
-               by a compiled passive-force callback (passive.py) at the sites, through MuJoCo's
-               site positions and Jacobians; MuJoCo's Euler or RK4 integrates
-               simulate_dynamics(scene, integrator="Euler", dt=None, *,
-                                 native_normal=False, friction_at="corner")        dynamics.py
+    dynamics   the scene's contact law applied by a passive-force callback (passive.py)
+               simulate_dynamics(scene, integrator="Euler", dt=None, ...)              dynamics.py
 
-    build_twin / build_spec / build_model / to_mjcf   spec.py (geometry.py, inertial.py, sites.py,
-                                                      sensors.py, effects.py)
+    build_twin / build_spec / build_model / to_mjcf   spec.py (geometry, inertial, sites, sensors, effects)
     solref_for, contact_parameters                    solref.py (friction.py)
     energy from MuJoCo's sensors, blow-up guard       energy.py, guard.py
+
+The whole design: docs/mujoco-twins.md.
 """
 import mujoco as _mujoco
 

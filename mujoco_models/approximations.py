@@ -7,14 +7,11 @@ run.py stores the list in Trajectory.meta.
 """
 from __future__ import annotations
 
+from scene_types.integrators import SAME_UPDATE
 from scene_types.schema import Scene
 
 from .geometry import CONTACT_SPHERE_RADIUS
 
-# custom_sim integrators that take the same update as a MuJoCo integrator (contact forces are
-# explicit in all of MuJoCo's: "implicit" treats only joint damping and actuators implicitly)
-SAME_UPDATE = {"Euler": "semi_implicit_euler", "implicit": "semi_implicit_euler",
-               "implicitfast": "semi_implicit_euler", "RK4": "rk4"}
 
 
 def approximations(twin) -> list[str]:

@@ -1,27 +1,20 @@
 """MuJoCo's dynamics under our contact law: the dynamics twin.
 
-The same body as the native twin (rigid_body.py's mass, COM and inertia in an explicit
-<inertial>, the same joints), but no contact pair: the ground's force is the scene's penalty law,
-any family of scene_types.laws (contact_law.py), evaluated by a compiled passive-force callback
-(passive.py) at the contact sites, from MuJoCo's own site positions and Jacobians. MuJoCo does
-everything else: mass matrix, gravity, the Jacobian transpose that turns contact forces into
-joint forces, and the integration. Run with MuJoCo's Euler (velocities first, then positions
-with the new velocities: our semi-implicit Euler) or RK4 (classical, on qpos and qvel), it
-takes the same steps as a correct simulator of the scene, to round-off.
+The native twin's body and joints, but no contact pair: the scene's contact law, any family
+(contact_law.py), is applied by a compiled passive-force callback (passive.py) at the contact
+sites; MuJoCo does everything else. MuJoCo's Euler (our semi-implicit Euler) or RK4 integrates;
+its implicit integrators are refused (they leave passive forces out of their derivatives).
 
-MuJoCo's implicit integrators are refused: they leave custom passive forces out of the
-derivatives they treat implicitly, so they would integrate the contact explicitly while
-claiming otherwise.
+    simulate_dynamics(scene, integrator="Euler", dt=None, *, native_normal=False,
+                      friction_at="corner")   -> Trajectory ("mujoco_dynamics"), dt in s
 
-    simulate_dynamics(scene, integrator="Euler", dt=None)   -> Trajectory ("mujoco_dynamics")
-
-Switches for the attribution ladder (see passive.py): native_normal=True keeps MuJoCo's own
-normal contact (condim-1 pairs, the scene's solref mapping) and adds only our friction and
-rolling resistance; friction_at="midpoint" applies friction where MuJoCo puts its contact point.
+native_normal and friction_at are the attribution ladder's switches.
+See docs/mujoco-twins.md#the-dynamics-twin-dynamicspy-passivepy-contact_lawpy.
 """
 from __future__ import annotations
 
 from scene_types.laws import law_text
+from scene_types.integrators import MUJOCO_TWIN, SAME_UPDATE
 from scene_types.schema import Scene
 from scene_types.trajectory import Trajectory
 
@@ -31,9 +24,6 @@ from .sites import contact_below_site
 
 INTEGRATORS = ("Euler", "RK4")
 STAGES = {"Euler": 1, "RK4": 4}   # mj_forward calls per mj_step: the law is evaluated once per call
-# custom_sim's integrator that takes the same update as each MuJoCo integrator
-SAME_UPDATE = {"Euler": "semi_implicit_euler", "RK4": "rk4"}
-MUJOCO_INTEGRATOR = {v: k for k, v in SAME_UPDATE.items()}
 
 
 def simulate_dynamics(scene: Scene, integrator: str = "Euler", dt: float | None = None, *,
@@ -41,9 +31,9 @@ def simulate_dynamics(scene: Scene, integrator: str = "Euler", dt: float | None 
                       solref: str | None = None) -> Trajectory:
     """Run the dynamics twin for the scene's duration. integrator: Euler | RK4 (MuJoCo's names;
     semi_implicit_euler and rk4 are accepted too); dt (s), default the scene's dt.
-    native_normal, friction_at: module docstring; solref: the mapping of the native normal
-    contact (default the scene's)."""
-    integrator = MUJOCO_INTEGRATOR.get(integrator, integrator)
+    native_normal, friction_at: the switches of docs/mujoco-twins.md; solref: the mapping of the
+    native normal contact (default the scene's)."""
+    integrator = MUJOCO_TWIN.get(integrator, integrator)
     if integrator not in INTEGRATORS:
         raise ValueError(f"the dynamics twin runs MuJoCo's Euler or RK4, not {integrator!r}: MuJoCo's "
                          f"implicit integrators leave passive forces out of their derivatives")

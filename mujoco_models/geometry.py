@@ -1,24 +1,12 @@
 """Which geoms stand for each shape, chosen so that MuJoCo's contacts are our contact points.
 
-MuJoCo collides 3D geoms: a box against the ground plane gives two contacts per 2D corner (a 3D
-box has eight corners), and a cylinder lying on its side gives two, one at each end of the
-touching line, each with the full depth. So the twin collides through spheres instead:
+    contact_geoms(body, props)   a CONTACT_SPHERE_RADIUS sphere at each corner (box, compound);
+                                 the point's drawn ball, lowest point at (0, -h); the disk's
+                                 sphere of radius R (m, body frame)
+    visual_geoms(body)           the drawn shape, in no contact pair
 
-    box, compound          a sphere of radius CONTACT_SPHERE_RADIUS at each of our contact
-                           points (every corner of every part): one contact per point, at the
-                           point, with depth = ours + the radius (the sphere turns with the body,
-                           so it cannot be lifted to put its lowest point on the corner)
-    point                  the drawn ball (radius h, or POINT_DRAW_RADIUS when h = 0), placed
-                           so that its lowest point is our (0, -h): the point mass never turns,
-                           so the depth is ours exactly. (Not a tiny sphere lifted by its radius:
-                           MuJoCo's compiler treats a geom offset below 1e-6 m as none.)
-    circle                 a sphere of radius R at the centre: one contact straight below the
-                           centre, depth R - y as ours; MuJoCo puts the contact point mid-way
-                           through the overlap, R - d/2 below the centre (ours: R)
-
-The shape itself (box, boards, the seed's cylinder of length 2R, a ball for the point) is drawn
-by geoms in group VISUAL_GROUP that are in no contact pair, and no geom weighs anything (the
-body's <inertial> is explicit).
+Why spheres (a 3D box or cylinder gives two contacts per 2D point):
+docs/mujoco-twins.md#contact-geoms.
 """
 from __future__ import annotations
 

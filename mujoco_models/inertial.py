@@ -1,21 +1,10 @@
 """The twin's <inertial>: mass, centre of mass and diagonal inertia from the scene's geometry.
 
-MuJoCo needs a 3D inertia; the body turns only about y (the hinge), so only Iyy acts on the
-motion and it is our 2D inertia I exactly. The other two axes come from the 2D shape made
-into a slab of depth t along y (the seed's formulas, extended by the slab's thickness):
+    derived_inertial(body) -> Inertial: mass (kg), COM (m), (Ixx, Iyy, Izz) (kg m^2)
 
-    box part j (w_j x h_j, centre (dx_j, dz_j) from the COM, depth t_j = min(w_j, h_j)):
-        Ixx = sum m_j ((h_j^2 + t_j^2) / 12 + dz_j^2)
-        Iyy = sum m_j ((w_j^2 + h_j^2) / 12 + dx_j^2 + dz_j^2)        = I (parallel axes)
-        Izz = sum m_j ((w_j^2 + t_j^2) / 12 + dx_j^2)
-    circle (the seed's cylinder: radius R, length t = 2R along y):
-        Iyy = m R^2 / 2,  Ixx = Izz = m R^2 / 4 + m (2R)^2 / 12
-    point: no hinge, so no inertia acts; MuJoCo still wants one > 0, so it gets the drawn
-        ball's about its centre, 2 m r^2 / 5 (r = contact_height, or POINT_DRAW_RADIUS when that
-        is 0; the COM stays the point's).
-
-The slab's depth makes Ixx + Izz > Iyy strictly (MuJoCo's triangle inequality). The product
-Ixz of an asymmetric compound is left out: it couples only to rotations no joint allows.
+Iyy (the hinge's axis) is our 2D inertia exactly; Ixx and Izz are those of the 2D shape made a
+slab of depth board_depth along y (the disk: the seed's cylinder of length 2R), so that
+Ixx + Izz > Iyy. The formulas: docs/mujoco-twins.md#the-explicit-inertial.
 """
 from __future__ import annotations
 
@@ -54,7 +43,7 @@ def board_depth(w: float, h: float) -> float:
 
 
 def derived_inertial(body: Body, props: RigidBody | None = None) -> Inertial:
-    """The <inertial> of a scene body, by the formulas in this module's docstring."""
+    """The <inertial> of a scene body (formulas: docs/mujoco-twins.md#the-explicit-inertial)."""
     props = props or rigid_body(body)
     m = props.mass
     if body.shape == "point":

@@ -2,48 +2,16 @@
 through MuJoCo's passive-force callback, as a compiled function pointer (numba cfunc: no GIL, no
 Python per call).
 
-MuJoCo calls mjcb_passive(m, d) inside every mj_forward (each RK4 stage too), after the
-position stage (site_xpos, the Jacobians' cdof are current) and before the accelerations; what
-it adds to qfrc_passive is a generalised force like any other. For each contact site i:
+    installed(model, data, params)      context manager: register a run's MjData, install the callback
+    law_parameters(scene, rb, below, native_normal=, friction_at=)   the callback's parameter row
+    apply_contact_law(m, d, slot)       per touching site: Jp' (0, 0, Fn) + Jp_f' (Ft, 0, 0)
+                                        + Jr' (0, -tau, 0) added to qfrc_passive (N, N m)
 
-    c     = site_xpos_i - (0, 0, below)     the contact point (below = R for the circle: its
-                                            point is straight below the centre, not on the body)
-    d     = -c_z; nothing happens unless d > 0
-    J     = mj_jac(c)                       MuJoCo's Jacobian of the point: translational rows
-                                            Jp (3 x nv), rotational Jr (3 x nv)
-    vc    = Jp qvel                         the point's velocity; MuJoCo's z is the scene's y
-    Fn    = the damping law's normal force (d, vc_z)
-    Ft    = the friction law's force (Fn, vs_x)     vs: the slip at the friction point (below)
-    tau   = the rolling law's torque (Fn, omega)
-    qfrc_passive += Jp^T (0, 0, Fn) + Jp_f^T (Ft, 0, 0) + Jr^T (0, -tau, 0)
-
-(the hinge's axis is -y, so a counter-clockwise torque tau is the vector (0, -tau, 0), and
-omega = -(Jr qvel)_y). Each law is a family code with its parameters (roll_sharpness too) from
-the scene; law_parameters raises ValueError naming a law contact_law.py does not implement.
-Switches, for the ladder that takes MuJoCo's native contact apart:
-
-    native_normal   MuJoCo's own contact pairs (condim 1) make the normal force; the callback
-                    adds friction and rolling only. Their load Fn is still the scene's normal law
-                    at the site's depth: MuJoCo solves its contact force after the passive
-                    forces, so it is not known when they are computed.
-    friction_at     "corner": friction acts at the contact point and reads its slip there (the
-                    seed's); "midpoint": at c + (0, 0, d/2), mid-way through the penetration,
-                    where MuJoCo puts its contact point (the lever differs by d/2).
-
-Reading MjData from C: the callback gets raw pointers only. Each run registers, for its
-mjData, the addresses of the arrays the callback reads (qvel, site_xpos) and writes
-(qfrc_passive), from the bindings' numpy views of them (fixed for the life of an MjData), with
-the law's parameters and scratch space, in a registry. The callback finds its slot by the
-mjData pointer (MjData._address); a data that is not registered (another model run in the same
-process meanwhile) gets no force at all. The compiled code names the registry and MuJoCo's
-mj_jac by symbol (REGISTRY_SYMBOL, MJ_JAC_SYMBOL), bound to this process's addresses with
-llvmlite's add_symbol before it loads, so numba can cache it on disk: a process loads it in
-a fraction of a second instead of compiling for seconds (compile_cache.py keeps the cache in
-step with the sources).
-
-Callbacks are global to the process: `installed()` sets ours and gives back whatever was set
-before when the last run leaves. A worker process installs it itself when it runs a twin (a
-forked worker inherits the compiled function and the registry's address with its memory).
+Switches: native_normal (MuJoCo's condim-1 pairs make the normal force, the callback adds
+friction and rolling) and friction_at ("corner" or "midpoint", d/2 up). The callback finds its
+run's data in a registry by the MjData's address; it names the registry and mj_jac by symbol so
+that numba caches it on disk. How and why:
+docs/mujoco-twins.md#the-dynamics-twin-dynamicspy-passivepy-contact_lawpy.
 """
 from __future__ import annotations
 
@@ -158,7 +126,8 @@ def _jacobian(m, d, scratch_address, nv, body, x, y, z):
 @njit(cache=True)
 def apply_contact_law(m, d, slot):
     """Add the contact law's generalised forces of every touching site to qfrc_passive
-    (module docstring); slot: this data's registry row."""
+    (docs/mujoco-twins.md#the-dynamics-twin-dynamicspy-passivepy-contact_lawpy); slot: this
+    data's registry row."""
     p = carray(_f64(slot[R_PARAMS]), (N_PARAMS,))
     if p[P_CONTACT] == 0.0:
         return

@@ -1,21 +1,10 @@
 """The twin's own rigid body: mass, centre of mass, inertia and contact points from the scene file.
 
+    rigid_body(body) -> RigidBody: mass (kg), inertia about the COM (kg m^2), com in the
+        geometry frame (m), contact points relative to the COM at angle 0 (m)
+
 Written here, from the scene's geometry alone, so that nothing the twin integrates comes from
-the simulator it checks (custom_sim computes the same quantities in its own code). Frames: the
-geometry frame is the scene's (compound parts at their offsets); `com` is the centre of mass in
-it; contact points are given relative to the COM, in the body's frame at angle 0.
-
-    point      mass m at the origin; one contact point (0, -h), h = contact_height; never turns
-    box        w x h, COM at its centre; contact points: its four corners
-    compound   parts j of mass m_j, size w_j x h_j, centre o_j:
-                   M = sum m_j,  com = sum m_j o_j / M
-                   I = sum m_j (w_j^2 + h_j^2) / 12 + m_j |o_j - com|^2   (parallel axes)
-               contact points: every corner of every part
-    circle     radius R, COM at the centre, I = m R^2 / 2; one contact point straight below the
-               centre, (0, -R) in the world frame whatever the angle (it does not turn)
-
-A test checks mass, COM and Iyy against MuJoCo's compiler, which derives them from geoms of the
-same sizes and masses (tests/test_mujoco_rigid_body.py).
+the simulator it checks. The formulas per shape: docs/mujoco-twins.md#the-rigid-body.
 """
 from __future__ import annotations
 
@@ -68,7 +57,7 @@ def boxes(body: Body) -> list[tuple[float, tuple[float, float], tuple[float, flo
 
 @lru_cache(maxsize=64)
 def rigid_body(body: Body) -> RigidBody:
-    """Mass properties and contact points of a scene body (module docstring), derived once per
+    """Mass properties and contact points of a scene body (docs/mujoco-twins.md), derived once per
     body (the contact points are read-only: every twin of it shares them)."""
     props = _derive(body)
     props.points.flags.writeable = False

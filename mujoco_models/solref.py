@@ -1,32 +1,13 @@
 """solref and solimp from the scene's k (N/m) and c (N s/m): the three mappings of docs/physics.md.
 
-MuJoCo's contact row (engine_core_constraint.c) solves for a force f with
+    penalty   flat solimp d = PENALTY_IMPEDANCE, solref = (-k A_hat, -c A_hat): our linear-law
+              force up to a relative d (A / A_hat - 1); friction rows: friction.py
+    physical  timeconst = 1 / (wn zeta), dampratio = zeta, MuJoCo's default solimp
+    seed      timeconst = sqrt(m / k), dampratio = zeta: right only at zeta = 1
 
-    a1 + d (b v + kk r) = (1 - d) a0,      R = (1 - d) / d * A_hat
-
-where r is the signed distance (negative in contact), d the impedance from solimp, A_hat the
-row's diagonal approximation of the inverse inertia J M^-1 J^T, and (negative, "direct" solref)
-kk = stiffness / dwidth^2, b = damping / dwidth. For one row the solver's answer is
-
-    f = d (aref - a0) / (d A + (1 - d) A_hat),     aref = -b v - kk d r
-
-penalty   flat solimp d = dwidth = PENALTY_IMPEDANCE (MuJoCo's smallest), solref = (-k A_hat, -c A_hat):
-          aref = A_hat (k depth - c v) / d, so f = (k depth - c v - d a0 / A_hat) / (1 + d (A / A_hat - 1)),
-          our linear-law force up to relative d (A/A_hat - 1) and a force d a0 / A_hat (1.5e-4 m g with a hinge).
-          Friction rows: see friction.py. Pyramidal cone: MuJoCo spreads a contact of condim n
-          over 2 (n - 1) rows J_n +- mu_j J_j, each with the full spring in aref and the common
-          R_py = 2 mu^2 (1 + mu^2) (1 - d) / d A_hat, so the normal force would be
-          (n - 1) / (mu^2 (1 + mu^2)) times ours; solref is scaled back by that factor (friction
-          then is viscous mu^2 c / (n - 1), capped by the pyramid).
-physical  timeconst = 1 / (wn zeta), dampratio = zeta (wn = sqrt(k/m), zeta = c / (2 sqrt(k m))), MuJoCo's
-          default solimp: per unit mass the spring-damper of a point mass at d = dmax
-seed      timeconst = sqrt(m / k), dampratio = zeta (the seed's slide): right only at zeta = 1
-
-A_hat is the same for every contact of the body and every configuration: MuJoCo takes it from
-body_invweight0 (engine_setconst.c), computed once at qpos0: 1/m for a body that only slides
-(the point mass), and for a body with a hinge the mean over x, y, z of the COM's inverse
-inertia, (1/m + 0 + 1/m) / 3 = 2 / (3 m) since nothing moves it along y. `a_hat` reads it from
-the compiled model; a test checks it against efc_diagA of touching rows at several angles.
+solref_for(scene, mapping) -> ContactParameters; a_hat(model) reads MuJoCo's A_hat (1/kg) from
+body_invweight0. The derivation from MuJoCo's constraint equations:
+docs/physics.md#how-the-mappings-are-derived.
 """
 from __future__ import annotations
 
@@ -166,7 +147,7 @@ def _penalty(scene: Scene, a_hat: float, props: RigidBody, dt: float) -> Contact
         f"({load}), capped at mu Fn by the {scene.mujoco.cone} cone; {ours}; below the "
         f"cap the row also cancels part of the other tangential accelerations (partial stiction); "
         f"impratio = {rows.impratio:g} and solreffriction keep MuJoCo's cone projection from raising "
-        f"the normal force while sliding (only by about 2 mu c_t v / impratio, see mujoco_models/friction.py)")
+        f"the normal force while sliding (only by about 2 mu c_t v / impratio, see docs/physics.md)")
     return ContactParameters("penalty", solref, PENALTY_SOLIMP, a_hat, rows.solreffriction,
                              rows.impratio, rows.damping, notes)
 

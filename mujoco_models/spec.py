@@ -1,23 +1,14 @@
 """Scene -> MuJoCo model, built with mujoco.MjSpec (no XML templates), and its MJCF.
 
+    build_twin(scene, solref, pairs=)   the Twin: the MjSpec and every choice behind it
     build_spec(scene, solref)   the MjSpec (compiled once: A_hat comes from the compiled model)
     build_model(scene, solref)  the compiled MjModel
     to_mjcf(scene, solref)      MjSpec.to_xml(): loads with mujoco.MjModel.from_xml_path
 
-No geom collides on its own (contype = conaffinity = 0 everywhere): every contact is an
-explicit <pair> of the ground with one contact geom, carrying condim, friction, solref, solimp
-and solreffriction, so nothing is left to MuJoCo's mixing rules. A scene without the contact
-effect gets no pair at all; effects.py says what the other effects become.
-
-    pairs="native"   the native twin: MuJoCo's own contact, condim from the scene's effects
-    pairs="normal"   MuJoCo's normal contact only (condim 1); friction comes from elsewhere
-    pairs="none"     no contact pair: the dynamics twin, whose contact forces are the seed's
-                     law applied by a passive-force callback (dynamics.py)
-
-Every twin carries a site at each contact point (sites.py) and sensors that MuJoCo fills
-during the run: its kinetic and potential energy (energy flag on), and per contact point
-either MuJoCo's contact distance (a contact sensor on the pair) or, without pairs, the site's
-world position. energy.py reads them.
+Every contact is an explicit <pair> of the ground with one contact geom. pairs="native": MuJoCo's
+own contact, condim from the effects; "normal": condim 1 only; "none": no pair (the dynamics
+twin). Sites at the contact points and energy sensors on every twin.
+See docs/mujoco-twins.md#how-a-twin-is-built-specpy.
 """
 from __future__ import annotations
 
@@ -69,7 +60,7 @@ class Twin:
     cone: str
     dt: float
     n_pairs: int
-    pairs: str = "native"                  # native | normal | none (module docstring)
+    pairs: str = "native"                  # native | normal | none (docs/mujoco-twins.md)
     sensors: SensorLayout | None = None    # where energy.py finds MuJoCo's energies and depths
 
     def __getstate__(self):

@@ -1,22 +1,12 @@
 """The contact law's families, as data: each effect's law names and the parameters each takes.
 
-    normal force (d the depth, v_n the normal velocity, both m and m/s; Fn in N)
-      compression    Fn = k d + c max(0, -v_n)           the seed's Algorithm 1
-      linear         Fn = max(0, k d - c v_n)            Kelvin-Voigt, never pulls
-      unclamped      Fn = k d - c v_n                    pulls while separating fast
-      hunt_crossley  Fn = max(0, k d (1 - dissipation v_n))   dissipation in s/m
-    friction (v the slip velocity, m/s; Ft in N)
-      tanh           Ft = -mu Fn tanh(alpha v)           the seed
-      ramp           Ft = -mu Fn clamp(alpha v, -1, 1)   a stiction ramp below 1/alpha
-      smooth_coulomb Ft = -mu Fn v / sqrt(v^2 + 1/alpha^2)
-      sign           Ft = -mu Fn sign(v)                 bare Coulomb, no alpha
-    rolling resistance (omega in rad/s; torque in N m)
-      tanh           tau = -mu_roll Fn tanh(roll_sharpness omega)
-      sign           tau = -mu_roll Fn sign(omega)
+    damping_law    compression (the seed's), linear, unclamped, hunt_crossley   Fn (N)
+    friction_law   tanh (the seed's), ramp, smooth_coulomb, sign                Ft (N)
+    roll_law       tanh (the seed's), sign                                      tau (N m)
 
-Each simulator side (custom_sim, the independent oracle, the MuJoCo twin) writes these
-formulas itself; this module only names them, so that a scene, a `--law` file and an
-identified law speak the same words.
+Each simulator side (custom_sim, the independent oracle, the MuJoCo twin) writes the formulas
+itself (docs/contact-laws.md#the-families); this module only names them, so that a scene, a
+`--law` file and an identified law speak the same words.
 """
 from __future__ import annotations
 

@@ -12,14 +12,14 @@ from pathlib import Path
 from typing import Any
 
 from .errors import SceneError
+from .integrators import MUJOCO as MUJOCO_INTEGRATORS
+from .integrators import OURS as INTEGRATORS
 from .laws import DAMPING_LAWS, FRICTION_LAWS, LAW_PARAMETERS, ROLL_LAWS
 
-INTEGRATORS = ("explicit_euler", "semi_implicit_euler", "implicit_euler", "rk4")
 EFFECTS = ("gravity", "contact", "friction", "rolling_friction")
 SHAPES = ("point", "box", "compound", "circle")
 SOLREF_MAPPINGS = ("penalty", "physical", "seed")
 MAX_STEPS = 100_000_000  # a run's arrays take 48 bytes a step: 4.8 GB here, a typo beyond
-MUJOCO_INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
 CONES = ("elliptic", "pyramidal")
 
 

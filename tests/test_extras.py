@@ -25,7 +25,7 @@ IMPORTS = """
 import json, sys
 import compare, compare.cli
 import compare.commands.run, compare.commands.sweep, compare.tools.accuracy.workprecision, compare.executor
-compare.cli.build_parser()          # imports every command module, as `--help` does
+compare.cli.build_parser(everything=True)   # imports every command and tool module
 print(json.dumps(sorted(m for m in sys.modules if m.split(".")[0] in EXTRAS)))
 """
 

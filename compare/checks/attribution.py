@@ -28,6 +28,7 @@ import dataclasses
 import numpy as np
 
 from custom_sim import Scene, SimulationDiverged
+from scene_types.integrators import SAME_UPDATE
 
 from ..store import cached
 from .case import as_case
@@ -72,9 +73,6 @@ def cause(name: str, scene: Scene) -> str:
     """The rung's cause in words, naming the scene's own friction and damping families."""
     ct = scene.contact
     return CAUSES[name].format(friction=FRICTION_PHRASE[ct.friction_law], damping=DAMPING_PHRASE[ct.damping_law])
-# custom_sim integrators taking MuJoCo's update
-MUJOCO_UPDATE = {"Euler": "semi_implicit_euler", "RK4": "rk4", "implicit": "semi_implicit_euler",
-                 "implicitfast": "semi_implicit_euler"}
 
 
 def _linear(scene: Scene) -> Scene:
@@ -106,7 +104,7 @@ def rungs(scene: Scene, native_run=None, case=None) -> list[tuple[str, callable]
     ours = case.states
     mj_integrator = scene.mujoco.integrator
     mj_dt = scene.mujoco.dt or scene.dt
-    same = MUJOCO_UPDATE[mj_integrator]
+    same = SAME_UPDATE[mj_integrator]
     callback_integrator = mj_integrator if mj_integrator in ("Euler", "RK4") else "Euler"
 
     def mujoco_states(traj):

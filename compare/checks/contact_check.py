@@ -32,6 +32,7 @@ import numpy as np
 
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 from custom_sim.bodies import contact_points_world
+from scene_types.integrators import SAME_UPDATE
 
 from ..store import cached
 from ..oracle.reference import ReferenceError as NoReference
@@ -53,9 +54,6 @@ MOTION_SHARE = 0.1      # no judged tolerance above a tenth of the motion it jud
 # coordinate per step, 1e-16 * 1e5 steps * 1 m = 1e-11 m; the floor is a hundred times that.
 ROUND_OFF_POSITION = 1e-9   # m
 ROUND_OFF_ANGLE = 1e-9      # rad
-# custom_sim integrators taking MuJoCo's update (contact forces explicit in all of MuJoCo's)
-MUJOCO_UPDATE = {"Euler": "semi_implicit_euler", "RK4": "rk4", "implicit": "semi_implicit_euler",
-                 "implicitfast": "semi_implicit_euler"}
 
 
 def contact_scene(scene: Scene) -> Scene:
@@ -130,7 +128,7 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, int
     tested = _on_grid(t_under, under, t)
 
     # 2. the motion's sensitivity to the force error
-    same = MUJOCO_UPDATE[twin.integrator]
+    same = SAME_UPDATE[twin.integrator]
     try:
         centre, s_pos, s_ang, chosen = spread(bare, error.relative, same, twin.dt, error.torque_relative,
                                               centre=case.states(bare, same, twin.dt))

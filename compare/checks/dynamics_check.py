@@ -49,6 +49,7 @@ import dataclasses
 
 import numpy as np
 
+from scene_types.integrators import MUJOCO_TWIN
 from scene_types.schema import Scene
 
 from ..store import cached
@@ -57,8 +58,6 @@ from .row import CheckRow
 NAME = "dynamics"
 ISOLATES = ("inertia, torque, contact-point kinematics and the integrator: MuJoCo integrates "
             "the same contact law")
-# MuJoCo's integrator that takes the same update as each of ours (contact forces explicit)
-MUJOCO_INTEGRATOR = {"semi_implicit_euler": "Euler", "rk4": "RK4"}
 EPS = float(np.finfo(float).eps)
 ROUNDOFF_PER_STEP = 2.0 * EPS      # relative difference added per step by two correct codes
 ROUNDOFF_FLOOR_POSITION = 1e-9     # m, see the module docstring
@@ -77,7 +76,7 @@ def check_dynamics(scene: Scene, states, integrator: str, dt: float, rounding=No
     file (one_step.Rounding), None for full double precision: its half unit of each value is
     added to the tolerance."""
     details = {}
-    if integrator not in MUJOCO_INTEGRATOR:
+    if integrator not in MUJOCO_TWIN:
         return _row(integrator, details, f"not judged: MuJoCo has no {integrator.replace('_', ' ')} (its implicit "
                                          f"integrators leave passive forces out of their derivatives); check step "
                                          f"judges this integrator")
@@ -95,7 +94,7 @@ def check_dynamics(scene: Scene, states, integrator: str, dt: float, rounding=No
         return _row(integrator, details, f"the trajectory under test is not finite from step {i} (t = {i * dt:.6g} s)",
                     passed=False)
     try:
-        twin = cached(simulate_dynamics)(run, MUJOCO_INTEGRATOR[integrator], dt).states()
+        twin = cached(simulate_dynamics)(run, MUJOCO_TWIN[integrator], dt).states()
     except MujocoDiverged as exc:
         return _row(integrator, details, f"not judged: the dynamics twin diverged ({exc})")
     pos = np.hypot(states[:, 0] - twin[:, 0], states[:, 1] - twin[:, 1])
@@ -112,11 +111,11 @@ def check_dynamics(scene: Scene, states, integrator: str, dt: float, rounding=No
     judge_angle = tol_ang <= MOTION_SHARE * motion_ang[-1]
     pos_max, ang_max = float(pos.max()), float(ang.max())
     details.update(roundoff_position=tol_pos, roundoff_angle=tol_ang,
-                   mujoco_integrator=MUJOCO_INTEGRATOR[integrator],
+                   mujoco_integrator=MUJOCO_TWIN[integrator],
                    friction_step_number_max=friction_step_number(run, twin))
     bound, judged = "round-off", len(pos)
     if pos.max() > tol_pos or (judge_angle and ang.max() > tol_ang):
-        spread = sensitivity(run, MUJOCO_INTEGRATOR[integrator], dt, twin)
+        spread = sensitivity(run, MUJOCO_TWIN[integrator], dt, twin)
         if spread is None:
             details["sensitivity_position"] = None
         else:
@@ -277,41 +276,38 @@ def _reason(details: dict, judge_angle: bool, passed: bool, steps: int) -> str:
     return base
 
 
-def main(argv: list[str] | None = None) -> int:
-    """python -m compare.checks.dynamics_check [SCENE ...]: custom_sim against the dynamics
-    twin on each scene (default: every built-in and stress scene), both integrators."""
-    import sys
+def print_survey(names: list[str]) -> int:
+    """custom_sim against the dynamics twin on each scene (default: every built-in and stress
+    scene), both integrators, as a Markdown table (`python -m compare tools dynamics-survey`);
+    1 when a row fails, else 0."""
     import time
 
     from compare.scenarios import load
+    from compare.table import number, stream
     from custom_sim import simulate
 
-    import argparse
-    parser = argparse.ArgumentParser(prog="python -m compare.checks.dynamics_check", description=main.__doc__)
-    parser.add_argument("scenes", nargs="*", metavar="SCENE", help="default: every built-in and stress scene")
-    names = parser.parse_args(argv if argv is not None else sys.argv[1:]).scenes or _all_scenes()
-    print("| scene | integrator | steps | position (m) | angle (rad) | tolerance (m) | tolerance (rad) | "
-          "bound | judged to (s) | friction h lambda | pass | s |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    names = names or _all_scenes()
     failed = 0
-    for name in names:
-        scene = load(name)
-        for integrator in MUJOCO_INTEGRATOR:
-            begin = time.perf_counter()
-            run = dataclasses.replace(scene, integrator=integrator)
-            row = check_dynamics(run, simulate(run).states(), integrator, run.dt)
-            failed += row.passed is False
-            d = row.details
-            print(f"| {scene.name} | {integrator} | {run.steps} | {_g(row.position_error_max)} | "
-                  f"{_g(row.angle_error_max)} | {_g(row.tolerance_position)} | "
-                  f"{_g(row.tolerance_angle)} | {d.get('bound')} | {_g(d.get('judged_until'))} | "
-                  f"{d.get('friction_step_number_max', 0.0):.3g} | {row.passed} | "
-                  f"{time.perf_counter() - begin:.1f} |", flush=True)
+
+    def rows():
+        nonlocal failed
+        for name in names:
+            scene = load(name)
+            for integrator in MUJOCO_TWIN:
+                begin = time.perf_counter()
+                run = dataclasses.replace(scene, integrator=integrator)
+                row = check_dynamics(run, simulate(run).states(), integrator, run.dt)
+                failed += row.passed is False
+                d = row.details
+                yield [scene.name, integrator, str(run.steps),
+                       *(number(v, none="-") for v in (row.position_error_max, row.angle_error_max,
+                                                       row.tolerance_position, row.tolerance_angle)),
+                       str(d.get("bound")), number(d.get("judged_until"), none="-"),
+                       f"{d.get('friction_step_number_max', 0.0):.3g}", str(row.passed),
+                       f"{time.perf_counter() - begin:.1f}"]
+    stream(["scene", "integrator", "steps", "position (m)", "angle (rad)", "tolerance (m)", "tolerance (rad)",
+            "bound", "judged to (s)", "friction h lambda", "pass", "s"], rows())
     return 1 if failed else 0
-
-
-def _g(v) -> str:
-    return "-" if v is None else f"{v:.3g}"
 
 
 def _all_scenes() -> list[str]:
@@ -319,7 +315,3 @@ def _all_scenes() -> list[str]:
 
     root = Path(__file__).resolve().parents[2] / "scenarios"
     return [str(p) for p in sorted(root.glob("*.toml")) + sorted((root / "stress").glob("*.toml"))]
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

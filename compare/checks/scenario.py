@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Trajectory, stable_step
+from scene_types.integrators import MUJOCO_TWIN
 from scene_types.schema import SOLREF_MAPPINGS
 
 from . import events, metrics
@@ -30,10 +31,6 @@ from .case import Case
 from .native_check import native_row
 from .row import CheckRow
 
-# integrators whose dynamics MuJoCo can integrate with a passive force: Euler is our
-# semi-implicit Euler, RK4 the classical four stages; its implicit integrators leave passive
-# forces out of their derivatives, and it has no explicit Euler.
-MUJOCO_INTEGRATORS = {"semi_implicit_euler": "Euler", "rk4": "RK4"}
 CUSTOM = "custom_sim"
 SHOWN = ("reference", "native")    # checks that are shown, not judged, by design
 # damping families the contact check's variant (friction off, the linear law) can stand for: a
@@ -204,7 +201,7 @@ def dynamics_rows(scene: Scene, tested: dict, user_run: Trajectory | None) -> li
     from .dynamics_check import check_dynamics
 
     rows = []
-    for name in MUJOCO_INTEGRATORS:
+    for name in MUJOCO_TWIN:
         run = tested.get(name)
         if run is not None:
             rows.append(unstable_row("dynamics", name, run) if isinstance(run, str)

@@ -26,7 +26,7 @@ from custom_sim import Scene, SimulationDiverged, mass_properties
 from custom_sim.chatter import WATCH_COLUMNS
 from custom_sim.integrators import INTEGRATORS, integrate
 from custom_sim.model import build_model, initial_state
-from custom_sim.simulate import blowup_guard
+from custom_sim.runner import blowup_guard
 
 # Shares of the measured error the force members take: both signs, the full error and half of
 # it (the response of a contact switch on a step grid is not monotonic in the force).

@@ -1,1 +1,2 @@
-"""One module per command of `python -m compare` (see compare/cli.py)."""
+"""One module per command of `python -m compare` (see compare/cli.py); tools/ holds the developer
+tools, `python -m compare tools TOOL`."""

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 from ..scenarios import builtin_paths, load_all
+from ..table import markdown, number
 
 
 def add_arguments(parser) -> None:
@@ -23,43 +24,40 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", metavar="FILE", help="write the rows as JSON")
 
 
-def _f(x) -> str:
-    return "–" if x is None else f"{x:.3g}"
+RUNGS = ("friction law", "contact point", "mapping", "integrator", "damping law")
 
 
 def contact_table(results: list[tuple]) -> list[str]:
-    lines = ["| scene | contact: difference (m, rad) | tolerance (m, rad) | judged until (s) | motion (m) "
-             "| mapping error | verdict |", "|---|---|---|---|---|---|---|"]
+    rows = []
     for scene, check, _ in results:
         verdict = "not judged: " + check.reason.removeprefix("not judged: ") if check.passed is None else (
             "pass" if check.passed else "**FAIL**")
         d = check.details
         err = d.get("mapping_error", {}).get("relative_force_error")
-        lines.append(f"| {scene.name} | {_f(check.position_error_max)}, {_f(check.angle_error_max)} "
-                     f"| {_f(check.tolerance_position)}, {_f(check.tolerance_angle)} "
-                     f"| {_f(d.get('judged_until'))} of {_f(d.get('duration'))} "
-                     f"| {_f(d.get('motion_position'))} | {_f(err)} | {verdict} |")
-    return lines
+        rows.append([scene.name, f"{number(check.position_error_max)}, {number(check.angle_error_max)}",
+                     f"{number(check.tolerance_position)}, {number(check.tolerance_angle)}",
+                     f"{number(d.get('judged_until'))} of {number(d.get('duration'))}",
+                     number(d.get("motion_position")), number(err), verdict])
+    return markdown(["scene", "contact: difference (m, rad)", "tolerance (m, rad)", "judged until (s)", "motion (m)",
+                     "mapping error", "verdict"], rows).splitlines()
 
 
 def ladder_table(results: list[tuple]) -> list[str]:
-    lines = ["| scene | native (m, rad) | " + " | ".join(
-        ("friction law", "contact point", "mapping", "integrator", "damping law")) + " |",
-        "|---|---|---|---|---|---|---|"]
+    rows = []
     for scene, _, ladder in results:
         cells = {r["name"].replace(" and shared cone", ""): r for r in ladder}
         native = cells["native"]
-        row = [scene.name, f"{_f(native['position_error_max'])}, {_f(native['angle_error_max'])}"]
-        for name in ("friction law", "contact point", "mapping", "integrator", "damping law"):
+        row = [scene.name, f"{number(native['position_error_max'])}, {number(native['angle_error_max'])}"]
+        for name in RUNGS:
             r = cells.get(name)
             if r is None:
                 row.append("")
             elif not r["measured"]:
                 row.append(r["note"])
             else:
-                row.append(f"{_f(r['share_position'])} ({_f(r['step_position'])} alone)")
-        lines.append("| " + " | ".join(row) + " |")
-    return lines
+                row.append(f"{number(r['share_position'])} ({number(r['step_position'])} alone)")
+        rows.append(row)
+    return markdown(["scene", "native (m, rad)", *RUNGS], rows).splitlines()
 
 
 def main(args) -> int:

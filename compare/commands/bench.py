@@ -17,11 +17,13 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import sys
 
 from custom_sim import INTEGRATORS
 
 from scene_types import BadInput
 from ..scenarios import load_all
+from ..table import text
 
 SPEED_GOAL = 50.0   # issue 5: our step at least 50 times cheaper than MuJoCo's
 
@@ -55,13 +57,12 @@ def main(args) -> int:
     except ValueError as err:
         raise BadInput(str(err)) from None
     timing = {} if args.repeats is None else {"repeats": max(1, args.repeats)}
-    if not args.json:
-        extra = f"{'before ns/step':>16}{'after/before':>14}" if before else ""
-        print(f"{'scene':<18}{'custom ns/step':>16}{'minimal loop':>14}{'mujoco ns/step':>16}{'ratio':>9}"
-              f"{'wall ratio':>12}{'newton/step':>13}{extra}   (custom integrator, dt | mujoco integrator, dt, loop)")
+    rows = []
     for scene in scenes:
         if args.integrator:
             scene = dataclasses.replace(scene, integrator=args.integrator)
+        if not args.json:
+            print(f"{scene.name} ...", file=sys.stderr, flush=True)
         r = bench_scene(scene, before=before, **({} if args.rounds is None else {"rounds": max(1, args.rounds)}),
                         **timing)
         row = r.as_dict()
@@ -71,20 +72,22 @@ def main(args) -> int:
         if args.json:
             print(json.dumps(row), flush=True)
             continue
-        goal = "" if r.ratio >= SPEED_GOAL else f"  below the {SPEED_GOAL:g}x goal"
-        wall = r.ns_per_step_mujoco_wall / r.ns_per_step_custom_wall
-        extra = (f"{r.ns_per_step_before:>16.1f}{r.ns_per_step_custom / r.ns_per_step_before:>13.2f}x"
-                 if before else "")
         floor = "–" if r.ns_per_step_minimal is None else \
             f"{r.ns_per_step_minimal:.1f} ({r.ns_per_step_custom / r.ns_per_step_minimal:.1f}x)"
-        print(f"{r.name:<18}{r.ns_per_step_custom:>16.1f}{floor:>14}{r.ns_per_step_mujoco:>16.1f}{r.ratio:>8.1f}x"
-              f"{wall:>11.1f}x"
-              f"{r.newton_per_step:>13.2f}{extra}   "
-              f"({r.integrator_custom}, {r.dt_custom:g} | {r.integrator_mujoco}, {r.dt_mujoco:g}, "
-              f"{r.mujoco_loop}){goal}", flush=True)
-        if lin is not None:
-            print(f"{'':<18}10x steps cost {lin.custom_ratio:.2f}x (custom), "
-                  f"{lin.mujoco_ratio:.2f}x (mujoco)", flush=True)
+        rows.append([r.name, f"{r.ns_per_step_custom:.1f}", floor, f"{r.ns_per_step_mujoco:.1f}", f"{r.ratio:.1f}x",
+                     f"{r.ns_per_step_mujoco_wall / r.ns_per_step_custom_wall:.1f}x", f"{r.newton_per_step:.2f}",
+                     *([f"{r.ns_per_step_before:.1f}", f"{r.ns_per_step_custom / r.ns_per_step_before:.2f}x"]
+                       if before else []),
+                     f"{r.integrator_custom}, {r.dt_custom:g}", f"{r.integrator_mujoco}, {r.dt_mujoco:g}, {r.mujoco_loop}",
+                     *([f"{lin.custom_ratio:.2f}x (custom), {lin.mujoco_ratio:.2f}x (mujoco)"] if lin else []),
+                     "" if r.ratio >= SPEED_GOAL else f"below the {SPEED_GOAL:g}x goal"])
+    if not args.json:
+        figures = ["custom ns/step", "minimal loop", "mujoco ns/step", "ratio", "wall ratio", "newton/step",
+                   *(["before ns/step", "after/before"] if before else [])]
+        words = ["custom integrator, dt", "mujoco integrator, dt, loop",
+                 *(["10x steps cost"] if args.linearity else []), "note"]
+        print(text(["scene", *figures, *words], rows,
+                   align=["left", *["right"] * len(figures), *["left"] * len(words)]))
     return 0
 
 

@@ -74,5 +74,5 @@ def main(args) -> int:
     return status
 
 
-if __name__ == "__main__":   # python -m compare.commands.identify is not the entry point: compare.cli is
+if __name__ == "__main__":   # not an entry point of its own: `python -m compare identify` is
     sys.exit(2)

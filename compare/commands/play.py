@@ -119,5 +119,5 @@ def _check(replay, engine_name: str) -> int:
     if engine_name == replay.recording.engine and replay.matches_recording() is False:
         print(f"play: note: the recording saved the result {json.dumps(replay.recording.result)}; "
               "this replay differs, so the game's physics or rules changed since it was recorded "
-              "(python -m compare.tools.game.demo remakes the demo)", file=sys.stderr)
+              "(python -m compare tools game-demo remakes the demo)", file=sys.stderr)
     return EXIT_OK

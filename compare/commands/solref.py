@@ -10,6 +10,8 @@ Exit status 0, or 2 for bad input (a non-positive mass or stiffness, ...).
 """
 from __future__ import annotations
 
+from ..table import text
+
 DEFAULT_CALIBRATION = "reports/calibration/calibration.json"
 
 
@@ -32,8 +34,7 @@ def main(args) -> int:
     rows = conversion_table(args.mass, args.k, args.c, args.shape, args.size, args.radius, args.calibration)
     print(f"{args.shape} of {args.mass:g} kg, k = {args.k:g} N/m, c = {args.c:g} N s/m; error: MuJoCo against "
           f"custom_sim on a drop from 0.3 m (gravity and normal contact, linear damping law, dt 1e-4 s)")
-    print(f"{'mapping':<11} {'position error max (m)':>23}  MJCF <pair> (or <geom>) attributes")
-    for r in rows:
-        err = "diverged" if r.position_error_max is None else f"{r.position_error_max:.3e}"
-        print(f"{r.mapping:<11} {err:>23}  {r.mjcf()}{'  (' + r.note + ')' if r.note else ''}")
+    print(text(["mapping", "position error max (m)", "MJCF <pair> (or <geom>) attributes"],
+               [[r.mapping, "diverged" if r.position_error_max is None else f"{r.position_error_max:.3e}",
+                 r.mjcf() + (f"  ({r.note})" if r.note else "")] for r in rows], align=["left", "right", "left"]))
     return 0

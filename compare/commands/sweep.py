@@ -20,9 +20,12 @@ import time
 from pathlib import Path
 
 
+from scene_types.integrators import ORDER
+
 from ..cli import output_folder
 from ..report.atomic import finite_json, temporary_folder
 from ..scenarios import load_all
+from ..table import DASH, markdown, number
 
 COLORS = {"explicit_euler": "tab:red", "semi_implicit_euler": "tab:blue", "implicit_euler": "tab:green",
           "rk4": "tab:purple", "Euler": "tab:cyan", "RK4": "tab:pink", "implicit": "tab:olive",
@@ -236,21 +239,21 @@ def cheapest_table(results, command: str = "python -m compare sweep") -> str:
 
     def cell(run, self_error=False):
         if run is None:
-            return "not within 1 mm on the ladder", "–"
+            return "not within 1 mm on the ladder", DASH
         return (f"{_name(run)}, dt {run.dt:g} s: {run.force_evals} force evaluations",
                 _timing(run))
 
-    lines = [f"Measured by `{command}` on {machine()}.", "",
-             "| scene | custom_sim: fewest force evaluations to 1 mm | CPU time (spread) "
-             "| MuJoCo: fewest to 1 mm of its own converged solution | CPU time (spread) |",
-             "|---|---|---|---|---|"]
+    rows = []
     for sweep in results:
         ours = ranking([r for r in sweep.runs if r.simulator == "custom"])
         theirs = ranking([r for r in sweep.runs if r.simulator == "mujoco"], self_error=True)
         a, at = cell(ours[0] if ours else None)
-        b, bt = cell(theirs[0] if theirs else None) if any(r.simulator == "mujoco" for r in sweep.runs) else ("not run", "–")
-        lines.append(f"| {sweep.scene.name} | {a} | {at} | {b} | {bt} |")
-    lines += ["", "Ranked by force evaluations (counted, so a rerun gives the same answer), then steps; "
+        b, bt = cell(theirs[0] if theirs else None) if any(r.simulator == "mujoco" for r in sweep.runs) else ("not run", DASH)
+        rows.append([sweep.scene.name, a, at, b, bt])
+    lines = [f"Measured by `{command}` on {machine()}.", "",
+             *markdown(["scene", "custom_sim: fewest force evaluations to 1 mm", "CPU time (spread)",
+                        "MuJoCo: fewest to 1 mm of its own converged solution", "CPU time (spread)"], rows).splitlines(),
+             "", "Ranked by force evaluations (counted, so a rerun gives the same answer), then steps; "
               "the CPU time is the minimum over repeats, and the spread how far the repeats differed. "
               "Force evaluations compare runs of one simulator; between the two, only the times do, and "
               "only where they differ by more than their spread."]
@@ -261,10 +264,8 @@ def cheapest_table(results, command: str = "python -m compare sweep") -> str:
 # Plot
 
 
-# The order of each integrator's energy residual R(end) as dt shrinks, away from contact events
-# (docs/energy-balance.md): the order of its error
-EXPECTED_ORDER = {"explicit_euler": 1, "semi_implicit_euler": 1, "implicit_euler": 1, "rk4": 4,
-                  "Euler": 1, "implicit": 1, "implicitfast": 1, "RK4": 4}
+# The energy residual R(end) shrinks with dt at the integrator's order (ORDER), away from contact
+# events (docs/energy-balance.md)
 ORDER_SLACK = 0.3   # a fitted slope this far below the order means something lowers it
 ORDER_POINTS = 3    # the finest steps: the asymptotic regime, where the order shows
 ROUNDOFF_ULPS = 10  # each step's energy sum rounds by a few eps of the energy: below 10 eps a step, R is round-off
@@ -314,11 +315,10 @@ def residual_rows(sweep) -> list[str]:
     """Per integrator: R(end) at each dt, its measured order against the expected one, and
     the contact events when they lower it."""
     switches = ", ".join(f"{v} {k}" for k, v in sweep.reference["switches"].items() if v)
-    lines = ["| simulator | integrator | R(end) at each dt (J) | measured order | expected | note |",
-             "|---|---|---|---|---|---|"]
+    rows = []
     for sim, integ in dict.fromkeys((r.simulator, r.integrator) for r in sweep.runs):
         runs = sweep.of(sim, integ)
-        order, expected = residual_order(runs, _floor(sweep)), EXPECTED_ORDER.get(integ)
+        order, expected = residual_order(runs, _floor(sweep)), ORDER.get(integ)
         values = ", ".join(f"{r.residual_end:.2g} ({r.dt:g} s)" for r in runs
                            if r.stable and math.isfinite(r.residual_end))
         note = ""
@@ -329,9 +329,10 @@ def residual_rows(sweep) -> list[str]:
             note = (f"lowered by the contact events ({switches} switches of the reference): a step across a switch "
                     "integrates the force's jump or kink at first or second order" if switches else
                     "lower than expected without a contact event")
-        lines.append(f"| {'ours' if sim == 'custom' else 'MuJoCo'} | {integ} | {values or '–'} | {_fmt(order, '.2f')} "
-                     f"| {expected or '–'} | {note} |")
-    return lines + [""]
+        rows.append(["ours" if sim == "custom" else "MuJoCo", integ, values or DASH, _num(order, decimals=2),
+                     expected or DASH, note])
+    return markdown(["simulator", "integrator", "R(end) at each dt (J)", "measured order", "expected", "note"],
+                    rows).splitlines() + [""]
 
 
 def plot_scene(sweep, path: Path) -> None:
@@ -388,11 +389,12 @@ def plot_scene(sweep, path: Path) -> None:
 # Markdown and JSON
 
 
-def _fmt(x, spec=".3g") -> str:
-    return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, spec)
+def _num(x, **options) -> str:
+    """The sweep's number: 3 significant digits, "-" for a value that is missing or not finite."""
+    return number(x, none="-", nonfinite="-", **options)
 
 
-def stability_rows(sweep) -> list[str]:
+def stability_rows(sweep) -> list[list[str]]:
     from ..tools.accuracy.stability_search import theory
 
     rows = []
@@ -405,18 +407,17 @@ def stability_rows(sweep) -> list[str]:
         ratio = lim.h_max / spring if math.isfinite(spring) and spring > 0 else math.nan
         name = LABELS.get(lim.integrator, lim.integrator) if lim.simulator == "custom" else f"MuJoCo {lim.integrator}"
         why = lim.reason or ("stable up to the largest step tried" if lim.capped else "")
-        rows.append(f"| {sweep.scene.name} | {name} | {lim.text()} | {_fmt(lim.first_threshold)} | {_fmt(spring)} | "
-                    f"{_fmt(th['spring_point'])} | {_fmt(th['friction'])} | {_fmt(th['combined'])} | "
-                    f"{_fmt(ratio, '.2f')} | {why} |")
+        rows.append([sweep.scene.name, name, lim.text(), *map(_num, (lim.first_threshold, spring, th["spring_point"],
+                                                                    th["friction"], th["combined"])),
+                     _num(ratio, decimals=2), why])
     return rows
 
 
-STABILITY_HEADER = [
-    "| scene | integrator | measured h_max (s) | first threshold, before the scans (s) | "
-    "theory: contact spring, effective mass (s) | theory: contact spring, point mass (s) | "
-    "theory: tanh friction (s) | stable_step (the smaller) (s) | measured / spring theory | "
-    "what failed just above h_max |",
-    "|---|---|---|---|---|---|---|---|---|---|",
+STABILITY_HEADERS = [
+    "scene", "integrator", "measured h_max (s)", "first threshold, before the scans (s)",
+    "theory: contact spring, effective mass (s)", "theory: contact spring, point mass (s)",
+    "theory: tanh friction (s)", "stable_step (the smaller) (s)", "measured / spring theory",
+    "what failed just above h_max",
 ]
 
 
@@ -478,9 +479,7 @@ def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
               "whole mass at the point, and the tanh friction's stiff rate; `stable_step` is the smaller. "
               "`>=`: stable up to the largest step tried. MuJoCo rows use the semi-implicit theory (MuJoCo's "
               "Euler is semi-implicit, and all its integrators treat contact forces explicitly) or RK4's.", ""]
-    lines += STABILITY_HEADER
-    for sweep in results:
-        lines += stability_rows(sweep)
+    lines += markdown(STABILITY_HEADERS, [row for sweep in results for row in stability_rows(sweep)]).splitlines()
     lines += ["", STABILITY_NOTES, ""]
     for sweep in results:
         lines += scene_section(sweep)
@@ -530,15 +529,14 @@ def scene_section(sweep) -> list[str]:
                      f"the model difference.")
     lines += ["", "**Energy the numerics made or lost** (R(end) = E(end) - E(0) + W, docs/energy-balance.md):", "",
               *residual_rows(sweep)]
-    lines += ["", f"**Cheapest way to 1 mm:** {answer(sweep)}", "",
-              "| simulator | integrator | dt (s) | max error (m) | RMS error (m) | max angle error (rad) | "
-              "MuJoCo vs own converged, max (m) | R(end) (J) | CPU time (s) | wall time (s) | force evaluations | note |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for r in sweep.runs:
-        lines.append(f"| {r.simulator} | {r.integrator} | {r.dt:g} | {_fmt(r.error_max)} | {_fmt(r.error_l2)} | "
-                     f"{_fmt(r.angle_error_max)} | {_fmt(r.error_max_self)} | {_fmt(r.residual_end)} | "
-                     f"{_fmt(r.cpu_time)} | {_fmt(r.wall_time)} | "
-                     f"{r.force_evals} | {'' if r.stable else 'unstable: ' + r.note} |")
+    lines += ["", f"**Cheapest way to 1 mm:** {answer(sweep)}", ""]
+    rows = [[r.simulator, r.integrator, f"{r.dt:g}", *map(_num, (r.error_max, r.error_l2, r.angle_error_max,
+                                                                  r.error_max_self, r.residual_end, r.cpu_time,
+                                                                  r.wall_time)),
+             str(r.force_evals), "" if r.stable else "unstable: " + r.note] for r in sweep.runs]
+    lines += markdown(["simulator", "integrator", "dt (s)", "max error (m)", "RMS error (m)", "max angle error (rad)",
+                       "MuJoCo vs own converged, max (m)", "R(end) (J)", "CPU time (s)", "wall time (s)",
+                       "force evaluations", "note"], rows).splitlines()
     lines.append("")
     return lines
 

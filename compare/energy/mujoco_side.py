@@ -6,7 +6,8 @@ import dataclasses
 import mujoco
 import numpy as np
 
-from mujoco_models.dynamics import MUJOCO_INTEGRATOR, SAME_UPDATE, simulate_dynamics
+from mujoco_models.dynamics import simulate_dynamics
+from scene_types.integrators import MUJOCO_TWIN, SAME_UPDATE
 from mujoco_models.frames import joint_count, states_from_q
 from mujoco_models.spec import compiled_twin
 from scene_types import Scene
@@ -29,7 +30,6 @@ SPRING_RULES = {
 }
 # MuJoCo's implicit integrators differ from its Euler only in the passive damping they treat
 # implicitly; a twin has none (no joint damping, springs or fluid), so they take Euler's step
-SAME_AS_EULER = ("Euler", "implicit", "implicitfast")
 RK4_A = (0.5, 0.5, 1.0)             # each stage's offset from the step's start, in h
 RK4_B = (1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0)
 
@@ -38,7 +38,7 @@ def dynamics_balance(scene: Scene, integrator: str = "Euler", dt: float | None =
     """The balance of the dynamics twin (the scene's law through MuJoCo's passive callback),
     W by the rule of the custom_sim integrator that takes MuJoCo's update (Euler:
     semi-implicit Euler; RK4: rk4), the law evaluated on MuJoCo's states."""
-    integrator = MUJOCO_INTEGRATOR.get(integrator, integrator)
+    integrator = MUJOCO_TWIN.get(integrator, integrator)
     traj = simulate_dynamics(scene, integrator, dt)
     return balance(dataclasses.replace(scene, dt=traj.dt), traj.t, traj.states(), SAME_UPDATE[integrator])
 
@@ -157,7 +157,7 @@ def native_balance(scene: Scene, solref: str | None = None, integrator: str | No
     the other mappings the spring is not k, the rows' whole work is counted and R is the Euler
     step's kinetic-energy defect (docs/energy-balance.md)."""
     twin, model = compiled_twin(scene, solref, integrator=integrator, dt=dt)
-    name = "Euler" if twin.integrator in SAME_AS_EULER else twin.integrator
+    name = MUJOCO_TWIN[SAME_UPDATE[twin.integrator]]
     penalty = twin.contact.mapping == "penalty"
     k = scene.contact.k if scene.has("contact") else 0.0
     data = mujoco.MjData(model)
@@ -205,7 +205,7 @@ def native_from_run(scene: Scene, t: np.ndarray, states: np.ndarray, mujoco_inte
     E = terms["translation"] + terms["rotation"] + terms["gravity"] + terms["contact"]
     n = len(Z) - 1
     W = np.zeros((n + 1, 3))
-    name = "Euler" if mujoco_integrator in SAME_AS_EULER else mujoco_integrator
+    name = MUJOCO_TWIN[SAME_UPDATE[mujoco_integrator]]
     if n == 0 or not scene.has("contact"):
         return Balance(np.asarray(t, float), E, W, E - E[0], FROM_STATES_RULES[name], f"mujoco {mujoco_integrator}",
                        np.zeros(6))

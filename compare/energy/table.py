@@ -1,7 +1,7 @@
 """The seed's claims about its integrators, measured: R(end) of custom_sim's run of every built-in
 scene with each integrator at the scene's dt (the energy the numerics made or lost).
 
-    python -m compare.energy.table            prints the markdown table the README shows
+    python -m compare tools energy-table      prints the markdown table the README shows
 """
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ import dataclasses
 from custom_sim import INTEGRATORS, SimulationDiverged, simulate
 
 from ..scenarios import builtin_names, load
+from ..table import markdown as markdown_table
 from .balance import balance
 
 
@@ -29,13 +30,9 @@ def residuals(scene) -> dict:
 
 
 def markdown() -> str:
-    lines = ["| scene | dt (s) | " + " | ".join(INTEGRATORS) + " |", "|---|---|" + "---|" * len(INTEGRATORS)]
+    rows = []
     for name in builtin_names():
         scene = load(name)
         cells = [v if isinstance(v, str) else f"{v[0]:+.2g}" for v in residuals(scene).values()]
-        lines.append(f"| {name} | {scene.dt:g} | " + " | ".join(cells) + " |")
-    return "\n".join(lines)
-
-
-if __name__ == "__main__":
-    print(markdown())
+        rows.append([name, f"{scene.dt:g}", *cells])
+    return markdown_table(["scene", "dt (s)", *INTEGRATORS], rows)

@@ -1,6 +1,6 @@
 """Time `identify` per scene for a step function: the designed calls and the fits, best of a few.
 
-    python -m compare.identify.benchmark [MODULE:FUNCTION] [SCENE ...] [--repeat N]
+    python -m compare tools identify-bench [MODULE:FUNCTION] [SCENE ...] [--repeat N]
 
 Default: examples/seed_sim.py:step (plain numpy) on every built-in scene. Prints, per scene, the
 calls made, the fastest and the median wall time of N runs (each from a fresh import), and the
@@ -8,9 +8,11 @@ time the step function itself took (the rest is the identification's own work).
 """
 from __future__ import annotations
 
-import argparse
 import statistics
+import sys
 import time
+
+from ..table import text
 
 # The budget one scene's identification is held to, for a plain numpy step function (s).
 BUDGET = 5.0
@@ -36,24 +38,21 @@ class _Timed:
         self.function = timed
 
 
-def main(argv=None) -> int:
+def print_times(spec: str, names: list[str], repeat: int = 3) -> int:
+    """The table of the named scenes (default: every built-in); 0 when the slowest scene is
+    within BUDGET, else 1."""
     from ..scenarios import load_all
     from ..usersim import load_simulator
     from .from_step import identify_step
 
-    p = argparse.ArgumentParser(prog="python -m compare.identify.benchmark", description=__doc__.splitlines()[0])
-    p.add_argument("sim", nargs="?", default="examples/seed_sim.py:step", metavar="MODULE:FUNCTION")
-    p.add_argument("scenes", nargs="*", metavar="SCENE")
-    p.add_argument("--repeat", type=int, default=3)
-    args = p.parse_args(argv)
-    simulator = load_simulator(args.sim)
-    scenes = load_all(args.scenes)
+    simulator = load_simulator(spec)
+    scenes = load_all(names)
     identify_step(simulator, scenes[0])   # first use: imports and scipy's lazy modules, not timed
-    print(f"{'scene':<16} {'calls':>6} {'best s':>8} {'median s':>9} {'in step s':>10}")
-    worst = 0.0
+    worst, rows = 0.0, []
     for scene in scenes:
+        print(f"{scene.name} ...", file=sys.stderr, flush=True)
         times, own, calls = [], [], 0
-        for _ in range(args.repeat):
+        for _ in range(repeat):
             timed = _Timed(simulator)
             start = time.perf_counter()
             out = identify_step(timed, scene)
@@ -61,10 +60,7 @@ def main(argv=None) -> int:
             own.append(timed.spent)
             calls = out["calls"]
         worst = max(worst, min(times))
-        print(f"{scene.name:<16} {calls:>6} {min(times):>8.3f} {statistics.median(times):>9.3f} {min(own):>10.3f}")
+        rows.append([scene.name, str(calls), f"{min(times):.3f}", f"{statistics.median(times):.3f}", f"{min(own):.3f}"])
+    print(text(["scene", "calls", "best s", "median s", "in step s"], rows, align=["left", *["right"] * 4]))
     print(f"slowest scene {worst:.3f} s (budget {BUDGET:g} s)")
     return 0 if worst <= BUDGET else 1
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

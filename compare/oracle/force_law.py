@@ -1,33 +1,13 @@
 """The reference's force law on many states at once (numpy), with a round-off scale beside it.
 
-The same equations as reference.right_hand_side, written for arrays: states Z of shape (N, 6) =
-[x, y, theta, vx, vy, omega], one row per state, each row on its own branch of every switch
-(touching or not, which side of max() or of a clamp, the sign of a slip or of omega). For
-contact point i, arm r_i:
+    accelerations(eq, Z, law) -> (a, scale): a (N, 3) = (ax, ay, alpha) in m/s^2, m/s^2, rad/s^2
+        at states Z (N, 6) = [x, y, theta, vx, vy, omega], scale its round-off scale (same units)
 
-    r_i  = R(theta) l_i   (l_i itself for the circle and the point mass)
-    d_i  = -(y + r_iy)                     touching while d_i > 0
-    vc_i = (vx - omega r_iy, vy + omega r_ix)
-    Fn_i = the scene's damping_law at (d_i, vc_iy)      (scene_types.laws: compression, linear,
-                                                         unclamped, hunt_crossley)
-    Ft_i = -mu Fn_i phi(vc_ix)                          phi the friction_law's unit shape: tanh,
-                                                         ramp, smooth_coulomb, sign
-    tau  = sum_i (r_ix Fn_i - r_iy Ft_i) - mu_roll Fn_i s(omega)    s: tanh or sign
-
-`Law` names the ways a hand-written simulator can deviate from these lines. The default is the
-scene's own law; compare/checks/mistakes.py builds its catalogue by replacing one field at a
-time, so a variant differs from the reference in exactly the line it names and nowhere else.
-
-`scale` is what the round-off of each acceleration is proportional to: the sum of the
-magnitudes of every term that enters it, each term's inputs taken in absolute value (running
-error analysis: a sum of n terms computed in floating point is off by at most about n eps times
-the sum of their magnitudes, whatever cancellation leaves of the result). The depth d = -(y + r_y)
-is the worst cancellation (0.05 m - 0.0495 m at rest): its round-off is eps (|y| + |r|), and
-k times that is the term k (|y| + |r|). An angle theta of many turns costs eps |theta| in
-R(theta), so |r| enters as |l| (1 + |theta|). Each family adds its own terms (docs/oracle-laws.md):
-Hunt-Crossley's product k d (1 - dissipation v_n) carries both factors' round-off; a friction
-shape carries |phi'| times the slip's round-off; the bare sign, whose value round-off can flip
-where the slip is within its own round-off of zero, carries that jump there (see SIGN_ULPS).
+The equations of reference.right_hand_side, written for arrays, each row on its own branch of
+every switch; every family of scene_types.laws. `Law` names the ways a hand-written simulator
+can deviate (compare/checks/mistakes.py replaces one field at a time). `scale` is the sum of
+the magnitudes of every term that enters an acceleration, what its round-off is proportional to.
+Derivation: docs/oracle-laws.md#the-force-law-and-its-round-off-scale.
 """
 from __future__ import annotations
 
@@ -53,35 +33,19 @@ DEFAULT_ROLL_SHARPNESS = Contact().roll_sharpness
 
 @dataclass(frozen=True)
 class Law:
-    """How the force law is evaluated. The defaults are the scene's own law (the reference).
+    """How the force law is evaluated; the defaults are the scene's own law (the reference).
+    The fields: docs/oracle-laws.md#the-mistakes-knob. A regularised family the scene gives no
+    sharpness for (tanh where it asks sign) uses DEFAULT_ALPHA or DEFAULT_ROLL_SHARPNESS."""
 
-    slip_velocity      "contact": friction on the contact point's velocity vc_x; "com": on vx
-    torque_sign        +1: tau = r x F = r_x Fy - r_y Fx; -1: the cross product taken backwards
-    damping_in_air     the damper c max(0, -vc_y) also acts at points not touching (d <= 0)
-    damping_law        None: the scene's; else a family name (scene_types.laws.DAMPING_LAWS)
-                       regardless of the scene, or a function Fn(eq, d, vc_y) (N; arrays) for a
-                       one-off variant (its round-off is taken as the scene's family's)
-    friction_shape     None: the scene's; else a family name (FRICTION_LAWS), or a function
-                       phi(slip m/s, alpha s/m) -> unit shape in [-1, 1] (round-off as above)
-    friction_load      "point": mu Fn_i at each point; "body": mu times the sum of all Fn
-    gravity_mass       True: weight m g; False: a force of g newtons (the m forgotten)
-    rolling            "scene": as the reference (the scene's roll_law); "tanh" or "sign":
-                       that family regardless of the scene; "none": no rolling resistance
-    points_turn        True: contact arms turn with theta; False: corners never rotated
-
-    A regularised family the scene gives no sharpness for (tanh where it asks sign) uses the
-    schema's default, DEFAULT_ALPHA or DEFAULT_ROLL_SHARPNESS.
-    """
-
-    slip_velocity: str = "contact"
-    torque_sign: float = 1.0
-    damping_in_air: bool = False
-    damping_law: str | Callable | None = None
-    friction_shape: str | Callable | None = None
-    friction_load: str = "point"
-    gravity_mass: bool = True
-    rolling: str = "scene"
-    points_turn: bool = True
+    slip_velocity: str = "contact"     # "contact": friction on the slip vc_x; "com": on vx
+    torque_sign: float = 1.0           # +1: r_x Fy - r_y Fx; -1: the cross product backwards
+    damping_in_air: bool = False       # the damper also acts at points not touching (d <= 0)
+    damping_law: str | Callable | None = None     # None: the scene's; a family; Fn(eq, d, vc_y)
+    friction_shape: str | Callable | None = None  # None: the scene's; a family; phi(slip, alpha)
+    friction_load: str = "point"       # "point": mu Fn_i; "body": mu times the sum of all Fn
+    gravity_mass: bool = True          # False: a weight of g newtons (the m forgotten)
+    rolling: str = "scene"             # "scene", "tanh", "sign" or "none"
+    points_turn: bool = True           # False: corners never rotated
 
 
 SEED_LAW = Law()
@@ -219,7 +183,7 @@ def _friction(eq: Equations, law: Law, fn, fn_scale, acting, vx2, om2, vcx, r_er
 
 def accelerations(eq: Equations, Z: np.ndarray, law: Law = SEED_LAW, touching=None):
     """(a, scale): accelerations (ax, ay, alpha_theta) of shape (N, 3) in m/s^2, m/s^2, rad/s^2
-    at the states Z (N, 6), and the round-off scale of each (same units, see the module).
+    at the states Z (N, 6), and the round-off scale of each (same units, see the module docstring).
     touching (N, n) bool, optional: which points act, instead of d > 0 (to evaluate both sides
     of a contact switch at one state)."""
     Z = np.atleast_2d(Z)

@@ -1,39 +1,18 @@
 """One step of each of the four integrators from many states at once, with its round-off bound.
 
-Written here, independently of custom_sim/integrators.py. z = [q, v], q = (x, y, theta),
-v = (vx, vy, omega), a(q, v) the force law of compare/oracle/force_law.py, step h (s):
+Written here, independently of custom_sim/integrators.py; a(q, v) is the force law of
+compare/oracle/force_law.py, h the step (s), each row of Z (N, 6) its own state:
 
     explicit Euler        v1 = v0 + h a(q0, v0)        q1 = q0 + h v0
     semi-implicit Euler   v1 = v0 + h a(q0, v0)        q1 = q0 + h v1     (seed Algorithm 1, lines 7-8)
-    implicit Euler        v1 = v0 + h a(q0 + h v1, v1)  q1 = q0 + h v1     (Newton on v1)
+    implicit Euler        v1 = v0 + h a(q0 + h v1, v1)  q1 = q0 + h v1     (damped Newton on v1)
     RK4                   z1 = z0 + h/6 (k1 + 2 k2 + 2 k3 + k4), k_s = (v, a) at the stages
 
-Every row of Z starts from its own state, so the steps of a whole trajectory are one array
-operation.
-
-The round-off bound. Two codes evaluating the same step differ by the rounding of each. An update
-z1 = z0 + h a rounds twice per code (the product, the sum): at most STATE_ULPS ulps of |z0| + |z1|
-between the two. The acceleration itself is a sum of terms, each a chain of about a dozen
-roundings: at most FORCE_ULPS ulps of the sum of the magnitudes of its terms (force_law's scale),
-times h. Positions take h times the velocity's bound on top (semi-implicit Euler and RK4 use the
-new velocities). Implicit Euler's v1 is the root of an equation a simulator solves only to its
-own Newton tolerance: IMPLICIT_SOLVE_TOL on v1 and h IMPLICIT_SOLVE_TOL on q1 are added.
-
-Every contact-law family (scene_types.laws) comes through the force law. Implicit Euler's equation
-G(v1) = 0 is solved by a damped Newton iteration with a forward-difference Jacobian: across the
-kinks of max(), of the ramp and of Hunt-Crossley's clamp G is continuous and piecewise smooth, a
-difference quotient is a one-sided slope there, and the backtracking keeps max |G| falling, so
-the iteration reaches the root as it does on smooth pieces. The bare sign (friction or rolling
-"sign") makes G jump where a slip or omega crosses zero: where the root lies on a smooth piece
-it is found as usual; where it would lie on the jump there is no root, and the set-valued
-equation (the sign anywhere in [-1, 1]) need not have a unique solution, so no answer can be
-held right or wrong: those rows are reported by `undecided` as not judged (NO_UNIQUE_STEP),
-never given a verdict. See docs/oracle-laws.md.
-
-States read from a text file carry the file's own rounding (Rounding: fixed decimals, an
-absolute half unit, or significant digits, a relative one). The next state's half unit adds
-as it is; the state before's half units are carried through the step by the step itself
-(input_rounding_bound), since a stiff contact amplifies them (dv1 = h k/m dy0).
+one_step(eq, Z, h, method) -> (Z1, bound, solved): the bound is STATE_ULPS ulps of the states
+plus FORCE_ULPS ulps of h times the force law's scale, plus IMPLICIT_SOLVE_TOL for implicit
+Euler, plus the file's rounding carried through the step (input_rounding_bound). Rows where a
+bare sign leaves implicit Euler no unique step are `undecided` (NO_UNIQUE_STEP), never judged.
+Derivations: docs/step-check.md#the-round-off-bound, docs/oracle-laws.md#one-step-of-each-integrator.
 """
 from __future__ import annotations
 
@@ -63,14 +42,8 @@ SLOW_PROGRESS = 0.5
 SLOW_PATIENCE = 8
 
 METHODS = ("explicit_euler", "semi_implicit_euler", "implicit_euler", "rk4")
-# States read from text carry the file's rounding, carried through one step by the step map
-# (input_rounding_bound): the sum of one-component-at-a-time secants at the written state is
-# the first-order bound, and a trajectory of many steps attains it: with this factor at 1 the
-# largest residual of a correct simulator's file reaches 0.98 to 1.00 of its bound (stiff_contact,
-# sharp_friction, fast_impact at %.6f, %.9f, %.8g, %.6g), so what first order leaves out (the
-# secant's change across the half unit, the components moving together, a contact switch
-# reached only by two components at once) has no margin left. At 2 the largest is 0.69 over
-# every built-in and stress scene and those four formats.
+# On input_rounding_bound's first-order sum: at 1 a correct file's residual reaches 0.98 to 1.00
+# of its bound, at 2 at most 0.69 (docs/step-check.md#the-rounding-of-states-read-from-text).
 INPUT_ROUNDING_SAFETY = 2.0
 
 
@@ -247,20 +220,11 @@ STEPS = {"explicit_euler": explicit_euler, "semi_implicit_euler": semi_implicit_
 def input_rounding_bound(eq: Equations, Z, Z1, h: float, method: str, law: Law = SEED_LAW,
                          rtol: float = 0.0, atol: float = 0.0) -> np.ndarray:
     """How far the states' own rounding can move the residual |step(z0) - z1| (N, 6), for
-    states written with a half unit of atol + rtol |z| per value (Rounding.half_unit).
-
-    The written z0 is the simulator's z0* moved by e0, |e0| <= u(z0) per component, and the
-    written z1 is its z1* moved by e1, |e1| <= u(z1). So step(z0) - z1 = [step(z0) - step(z0*)]
-    - e1 + (the simulator's own round-off), and the first term is what the step does to e0:
-    amplified where the force is stiff (a touching point: dv1 = h k/m dy0, dq1 = h^2 k/m dy0 on
-    top of dy0) or sharp (the tanh friction: h mu alpha Fn/m dvx0). It is measured with the
-    step itself: each component moved by its half unit both ways, the others kept, and the
-    larger change of step(z0) kept; summed over the six components (the triangle inequality
-    along a path from z0* to z0 one component at a time). A secant over the whole half unit,
-    not a derivative, so a contact switch within the rounding (the compression law's damper
-    engaging at d = 0) is reached; y is moved by the rounding of the depth d = -(y + r_y), which
-    theta moves too (|r_x| u(theta)). INPUT_ROUNDING_SAFETY covers what the one-at-a-time
-    secants, taken at the written state rather than along the path, leave out (second order)."""
+    states written with a half unit of atol + rtol |z| per value (Rounding.half_unit): each
+    component of z0 moved by its half unit both ways, the larger change of step(z0) kept, summed
+    over the six components, times INPUT_ROUNDING_SAFETY, plus z1's own half unit. A secant, not
+    a derivative, so a contact switch within the rounding is reached; y also moves by
+    |r_x| u(theta) (the depth's rounding). Why: docs/step-check.md#the-rounding-of-states-read-from-text."""
     Z = np.ascontiguousarray(np.atleast_2d(Z), dtype=float)
     Z1 = np.atleast_2d(Z1)
     u0 = atol + rtol * np.abs(Z)

@@ -1,49 +1,16 @@
 """Reference solutions: the scene's equations solved far more accurately than any fixed step.
 
-The equations are the scene's law (scene_types.laws), written here, independently, in plain
-Python floats; the geometry too is computed here (compare/oracle/rigid_body.py: area moments
-by Green's theorem), so that nothing checked against the reference is shared with custom_sim:
+    solve_reference(scene, t_eval) -> ReferenceSolution: states (T, 6) [x, y, theta, vx, vy,
+        omega] at t_eval (s), and work (T, 3) (J) removed by damping, friction and rolling
+    cached_reference(scene, t_eval, cache_dir)   the same, stored as .npz
+    energy(eq, states)                           E (J), so that E(t) - E(0) + W(t) = 0
 
-    m v' = sum_i (Ft_i, Fn_i) + (0, -m g)          I omega' = sum_i (r_i x F_i) - mu_roll Fn s(omega)
-    d_i  = -(y + r_iy)  touching while d_i > 0      vc_i = v + omega x r_i
-    Fn_i = k d_i + c max(0, -vc_iy)   compression   | max(0, k d_i - c vc_iy)   linear
-         | k d_i - c vc_iy            unclamped     | max(0, k d_i (1 - D vc_iy))   hunt_crossley
-    Ft_i = -mu Fn_i phi(vc_ix)   phi = tanh(alpha v) | clamp(alpha v, -1, 1) (ramp)
-                                     | v / sqrt(v^2 + 1/alpha^2) (smooth_coulomb) | sign(v)
-    s(omega) = tanh(roll_sharpness omega) under the scene's roll_law "tanh", sign(omega) under
-               "sign" (the seed's Algorithm 4)
-
-The right-hand side is smooth except where a switch flips: a point touching or not (the force
-jumps by c |vc_y| under the compression and unclamped laws), the kink of max() (compression:
-vc_y = 0; linear: k d = c vc_y; hunt_crossley: D vc_y = 1; unclamped has none), the ramp's
-kinks at alpha vc_x = +-1, the sign friction's jump at vc_x = 0, and sign(omega) of the
-rolling resistance. An adaptive solver stepping across such a point loses its order and its
-error estimate. So the motion is cut into *modes* (which points touch, which branch of max()
-each is on, which piece of the ramp or which way a point slides, the sign of omega under the
-sign law); inside a mode the right-hand side is one analytic expression, integrated by scipy's
-DOP853 (8th order, dense output) at a tight tolerance; each switch is located as a terminal
-event by root-finding on the dense output, and the integration restarts from there in the new
-mode.
-
-The sign friction can hold a slip at zero (stick: the friction is whatever keeps the slip's
-rate at zero while that stays within mu Fn, the Filippov solution). Where slips reach zero the
-points there are tried stuck, then sliding either way, and the pieces that agree with the forces
-they make are kept (stick_or_slide); a stuck point slides again when the friction it needs
-reaches mu Fn. One stuck point at a time is modelled; where only two at once could agree (a box
-coming to rest on two corners: the split of the friction between them is set by a lever of
-w sin(theta), ill-posed as theta -> 0) ReferenceError is raised.
-
-The state carries three more components beside the motion, integrated with it by DOP853 at the
-same tolerance: the work W (J) each dissipative effect has removed, the integral of
-    damping   sum_i (Fn_i - k d_i) (-vc_iy)    the normal force beyond the spring, against v_n
-    friction  sum_i -Ft_i vc_ix
-    rolling   sum_i mu_roll Fn_i s(omega) omega
-so that E(t) - E(0) + W(t) = 0 along the exact motion, E = energy() (docs/oracle-laws.md).
-
-The kinks of max() leave the force continuous. A body settling under the compression law has
-vc_y -> 0 with ever smaller oscillations, which would make events pile up near round-off, so
-their switching functions have a small hysteresis band (KINK_BAND): the force error it allows,
-c * KINK_BAND_VELOCITY, is far below anything the sweep measures (see the constants).
+The scene's law (scene_types.laws) is written here, independently, in plain Python floats,
+with the geometry of compare/oracle/rigid_body.py. The motion is cut into modes at every switch
+(touch, the normal law's kinks, the ramp's kinks, the sign friction's stick or slide, the sign
+of omega), each integrated by DOP853 at a tight tolerance, each switch a located event;
+ReferenceError where the motion enters a sliding mode not modelled (two points stuck at once).
+Derivation: docs/oracle-laws.md#the-reference-modes-and-switches.
 """
 from __future__ import annotations
 
@@ -88,20 +55,11 @@ TOUCH_BAND = 1e-14           # m
 SPIN_BAND = 1e-14            # rad/s
 SLIP_BAND = 1e-14            # m/s: the sign friction's slip past zero at its event
 
-# A point on a clamped branch (linear, Hunt-Crossley: Fn = 0 while d > 0) feels no force, so the
-# solver may take a step as long as a flight's across its lift-off and a landing just after:
-# d goes + - + within the step and neither crossing is seen (only signs at a step's ends are).
-# Its motion is right, but the mode still counts the point touching. While one is clamped the
-# step is held to CLAMPED_STEP sqrt(m / k), a tenth of the contact's time scale 1/wn (a bounce
-# of a corner off the ground and back takes several of them); measured on box_drop (linear law)
-# a 19 ms step missed a 13 ms lift-off without it.
+# A clamped point (Fn = 0 while d > 0) lets the solver step over a lift-off and landing unseen:
+# its step is held to CLAMPED_STEP sqrt(m / k) (docs/oracle-laws.md#the-reference-modes-and-switches)
 CLAMPED_STEP = 0.1
-# The solver's own guess of a segment's first step is checked only at the step's end, not in
-# between, where the dense output answers t_eval: on point_drop a 7 ms first step in contact
-# (wn h = 1) passed its end-point test with the states in between 8e-10 m and 3e-8 m/s off
-# (the energy balance off by 1.4e-8 J). Each segment starts at FIRST_STEP sqrt(m / k), a tenth
-# of the contact's time scale, and the controller lengthens it (tenfold a step at most) where
-# the motion allows.
+# The solver's first guess is checked only at its end, not where t_eval reads the dense output:
+# each segment starts at FIRST_STEP sqrt(m / k), a tenth of the contact's time scale (same doc)
 FIRST_STEP = 0.1
 
 # More switches than this within ZENO_WINDOW seconds means a sliding mode this reference does not

@@ -1,22 +1,12 @@
 """Mass properties and contact points of a scene's body, computed here from the scene file alone.
 
-The checks must not share the quantity they check, so the reference does not take custom_sim's
-mass properties: it integrates the body's area moments itself, a different way.
+    rigid_body(body) -> RigidBody: mass (kg), inertia about the COM (kg m^2), COM (m), contact
+        points relative to the COM (m)
 
-Box and compound: every part is a polygon of uniform density rho_j = m_j / A_j. By Green's
-theorem, for a polygon with vertices (x_i, y_i) counter-clockwise and c_i = x_i y_{i+1} - x_{i+1} y_i,
-
-    A      = sum_i c_i / 2
-    int x  = sum_i c_i (x_i + x_{i+1}) / 6          int y likewise
-    int (x^2 + y^2) = sum_i c_i (x_i^2 + x_i x_{i+1} + x_{i+1}^2 + y_i^2 + y_i y_{i+1} + y_{i+1}^2) / 12
-
-all about the body frame's origin. The mass is sum rho_j A_j, the COM sum rho_j int x / M, and
-the inertia about the COM I = sum_j rho_j int (x^2 + y^2) - M |com|^2: one polar moment about a
-common origin, shifted once, not a parallel-axis sum per part (custom_sim's way).
-Contact points are the polygons' vertices, relative to the COM.
-
-Disk: I = m R^2 / 2, one contact point straight below the centre, not turning with the body.
-Point mass: no rotation; the contact point sits contact_height below the COM (the seed's h_box).
+The checks must not share the quantity they check, so the oracle does not take custom_sim's
+mass properties: box and compound parts are polygons whose area moments come from Green's
+theorem, one polar moment about a common origin shifted to the COM once (custom_sim sums
+parallel axes per part). Formulas: docs/step-check.md#the-geometry-by-greens-theorem.
 """
 from __future__ import annotations
 

@@ -18,15 +18,12 @@ from . import plots
 from ..checks.law_difference import law_lines
 from ..checks.row import CheckRow
 from ..checks.scenario import Result, metrics_json
+from ..table import DASH, markdown, number
 
-def _fmt(x, unit: str = "") -> str:
-    if x is None:
-        return "–"
-    if isinstance(x, bool):
-        return "yes" if x else "no"
-    if isinstance(x, float) and (x == 0 or 1e-3 <= abs(x) < 1e4):
-        return f"{x:.4g}{unit}"
-    return f"{x:.2e}{unit}" if isinstance(x, float) else f"{x}{unit}"
+
+def _num(x, unit: str = "") -> str:
+    """A page's number: 4 significant digits, d.dde+XX outside 1e-3..1e4; its unit after it."""
+    return DASH if x is None else number(x, 4, sci=(1e-3, 1e4)) + unit
 
 
 def _write_atomically(path: Path, text: str) -> None:
@@ -81,19 +78,19 @@ def _verdict(passed) -> str:
 
 def checks_table(result: Result) -> list[str]:
     """The table a scenario page opens with: one row per check."""
-    lines = ["| check | what it isolates | largest difference | tolerance | verdict |", "|---|---|---|---|---|"]
+    rows = []
     for c in result.checks:
-        diff = (f"{_fmt(c.position_error_max, ' m')}, {_fmt(c.angle_error_max, ' rad')}"
-                if c.position_error_max is not None else "–")
-        tol = (f"{_fmt(c.tolerance_position, ' m')}, {_fmt(c.tolerance_angle, ' rad')}"
-               if c.tolerance_position is not None else "–")
+        diff = (f"{_num(c.position_error_max, ' m')}, {_num(c.angle_error_max, ' rad')}"
+                if c.position_error_max is not None else DASH)
+        tol = (f"{_num(c.tolerance_position, ' m')}, {_num(c.tolerance_angle, ' rad')}"
+               if c.tolerance_position is not None else DASH)
         reason = c.reason.removeprefix("not judged: ") if c.passed is None else c.reason
         note = "" if c.passed else f" ({reason})"
         d = c.details
         where = f"; first at step {d['first_step']} ({d.get('phase', '')}, {d.get('component', '')})" \
             if c.passed is False and d.get("first_step") is not None else ""
-        lines.append(f"| {c.label} | {c.isolates} | {diff} | {tol} | {_verdict(c.passed)}{note}{where} |")
-    return lines
+        rows.append([c.label, c.isolates, diff, tol, f"{_verdict(c.passed)}{note}{where}"])
+    return markdown(["check", "what it isolates", "largest difference", "tolerance", "verdict"], rows).splitlines()
 
 
 def stability_words(data: dict, integrator: str) -> str:
@@ -101,21 +98,20 @@ def stability_words(data: dict, integrator: str) -> str:
     limit = data["stable_dt_theory"]
     if limit == 0.0:
         return f"no step is stable for {integrator}: {data.get('stable_dt_reason', '')}"
-    return f"theory allows dt < {_fmt(limit, ' s')} for {integrator}"
+    return f"theory allows dt < {_num(limit, ' s')} for {integrator}"
 
 
 def energy_table(balances: dict, initial: float) -> list[str]:
     """The work-energy balance of each run: what the physics dissipated (W, by effect) and what
     the numerics made or lost (R = E - E(0) + W; docs/energy-balance.md)."""
-    lines = [f"The energy balance (E(0) = {_fmt(initial, ' J')}): *E(end) - E(0)* is mostly the physics on a "
+    lines = [f"The energy balance (E(0) = {_num(initial, ' J')}): *E(end) - E(0)* is mostly the physics on a "
              "damped scene; *W* the work each dissipative effect did; *R* = E(end) - E(0) + W what the numerics "
-             "created (+) or destroyed (-), zero for the exact motion.", "",
-             "| run | E(end) - E(0) | W damping | W friction | W rolling | R(end) | max abs R |",
-             "|---|---|---|---|---|---|---|"]
-    for name, b in balances.items():
-        w = b["dissipated"]
-        lines.append(f"| {name} | {_fmt(b['delta_E'], ' J')} | {_fmt(w['damping'], ' J')} | {_fmt(w['friction'], ' J')} "
-                     f"| {_fmt(w['rolling'], ' J')} | {_fmt(b['residual_end'], ' J')} | {_fmt(b['residual_max'], ' J')} |")
+             "created (+) or destroyed (-), zero for the exact motion.", ""]
+    rows = [[name, *(_num(v, " J") for v in (b["delta_E"], b["dissipated"]["damping"], b["dissipated"]["friction"],
+                                             b["dissipated"]["rolling"], b["residual_end"], b["residual_max"]))]
+            for name, b in balances.items()]
+    lines += markdown(["run", "E(end) - E(0)", "W damping", "W friction", "W rolling", "R(end)", "max abs R"],
+                      rows).splitlines()
     lines += [""] + [f"- *{name}*: W by {b['rule']}." for name, b in balances.items()] + [""]
     return lines
 
@@ -126,17 +122,17 @@ def attribution_section(ladder: list[dict]) -> list[str]:
              "A ladder of runs from MuJoCo's native contact (every effect on) to custom_sim, each rung "
              "removing one cause. *difference* is the rung's run against custom_sim; *share* what "
              "removing its cause took off the difference of the rung before; *alone* the distance "
-             "between the rung's run and the one before (see docs/differences-from-mujoco.md).", "",
-             "| rung: cause removed | difference (m, rad) | share (m, rad) | alone (m, rad) |",
-             "|---|---|---|---|"]
+             "between the rung's run and the one before (see docs/differences-from-mujoco.md).", ""]
+    rows = []
     for r in ladder:
         if not r["measured"]:
-            lines.append(f"| {r['name']} | {r['note']} | | |")
+            rows.append([r["name"], r["note"], "", ""])
             continue
-        share = "–" if r["share_position"] is None else f"{_fmt(r['share_position'])}, {_fmt(r['share_angle'])}"
-        alone = "–" if r["step_position"] is None else f"{_fmt(r['step_position'])}, {_fmt(r['step_angle'])}"
-        lines.append(f"| {r['name']} | {_fmt(r['position_error_max'])}, {_fmt(r['angle_error_max'])} "
-                     f"| {share} | {alone} |")
+        share = DASH if r["share_position"] is None else f"{_num(r['share_position'])}, {_num(r['share_angle'])}"
+        alone = DASH if r["step_position"] is None else f"{_num(r['step_position'])}, {_num(r['step_angle'])}"
+        rows.append([r["name"], f"{_num(r['position_error_max'])}, {_num(r['angle_error_max'])}", share, alone])
+    lines += markdown(["rung: cause removed", "difference (m, rad)", "share (m, rad)", "alone (m, rad)"],
+                      rows).splitlines()
     lines.append("")
     lines += [f"- **{r['name']}**: {r['cause']}" for r in ladder]
     lines.append("")
@@ -163,25 +159,19 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         lines.append("")
     lines += ["## Checks", "", f"The simulator under test is **{result.simulator}**.", ""]
     lines += checks_table(result)
-    lines += [
-        "",
-        "## The scene",
-        "",
-        "| | |",
-        "|---|---|",
-        f"| body | {scene.body.shape}, {_fmt(scene.body.mass, ' kg')} |",
-        f"| effects | {', '.join(scene.effects) or 'none'} |",
-        f"| contact | k = {_fmt(scene.contact.k, ' N/m')}, c = {_fmt(scene.contact.c, ' N s/m')}, "
-        f"damping law {scene.contact.damping_law}, mu = {scene.contact.mu}, alpha = {scene.contact.alpha} s/m, "
-        f"mu_roll = {scene.contact.mu_roll} m |",
-        f"| {result.simulator} | {scene.integrator}, dt = {scene.dt:g} s, {scene.steps} steps, "
-        f"{tested.force_evals} force evaluations, {_fmt(tested.wall_time, ' s')} |",
-        f"| MuJoCo | {twin.integrator}, dt = {twin.dt:g} s, solref mapping `{scene.mujoco.solref}`, "
-        f"cone {scene.mujoco.cone}, {_fmt(twin.wall_time, ' s')} |",
-        f"| stability | {stability_words(data, scene.integrator)} |",
-        f"| source | `{scene.source}`; MuJoCo model: [model.xml](model.xml) |",
-        "",
-    ]
+    lines += ["", "## The scene", "", *markdown(["", ""], [
+        ["body", f"{scene.body.shape}, {_num(scene.body.mass, ' kg')}"],
+        ["effects", ", ".join(scene.effects) or "none"],
+        ["contact", f"k = {_num(scene.contact.k, ' N/m')}, c = {_num(scene.contact.c, ' N s/m')}, "
+                    f"damping law {scene.contact.damping_law}, mu = {scene.contact.mu}, "
+                    f"alpha = {scene.contact.alpha} s/m, mu_roll = {scene.contact.mu_roll} m"],
+        [result.simulator, f"{scene.integrator}, dt = {scene.dt:g} s, {scene.steps} steps, "
+                           f"{tested.force_evals} force evaluations, {_num(tested.wall_time, ' s')}"],
+        ["MuJoCo", f"{twin.integrator}, dt = {twin.dt:g} s, solref mapping `{scene.mujoco.solref}`, "
+                   f"cone {scene.mujoco.cone}, {_num(twin.wall_time, ' s')}"],
+        ["stability", stability_words(data, scene.integrator)],
+        ["source", f"`{scene.source}`; MuJoCo model: [model.xml](model.xml)"],
+    ]).splitlines(), ""]
     if result.diagnosis:
         from ..usersim import diagnosis_markdown
         lines += ["## Diagnosis", "", diagnosis_markdown(result.diagnosis), ""]
@@ -196,37 +186,24 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         *energy_table(data["energy_balance"], data["energy_initial"]),
         "## Events",
         "",
-        f"| event | {result.simulator} | MuJoCo |",
-        "|---|---|---|",
-        f"| first contact (s) | {_fmt(ev_c['first_contact_time'])} | {_fmt(ev_m['first_contact_time'])} |",
-        f"| bounce apex heights (m) | {', '.join(f'{h:.4f}' for h in ev_c['bounce_apex_heights'][:4]) or '–'} "
-        f"| {', '.join(f'{h:.4f}' for h in ev_m['bounce_apex_heights'][:4]) or '–'} |",
-        f"| restitution implied | {', '.join(f'{e:.3f}' for e in ev_c['restitution'][:4]) or '–'} "
-        f"| {', '.join(f'{e:.3f}' for e in ev_m['restitution'][:4]) or '–'} |",
-        f"| at rest from (s) | {_fmt(ev_c['rest_time'])} | {_fmt(ev_m['rest_time'])} |",
-    ]
-    if "rolling_time" in ev_c:
-        lines.append(f"| rolling without slip from (s) | {_fmt(ev_c['rolling_time'])} | {_fmt(ev_m['rolling_time'])} |")
-    pc, pm = ev_c["final_pose"], ev_m["final_pose"]
-    lines += [
-        f"| final pose x, y, theta | {pc['x']:.4f} m, {pc['y']:.4f} m, {pc['theta']:.4f} rad "
-        f"| {pm['x']:.4f} m, {pm['y']:.4f} m, {pm['theta']:.4f} rad |",
+        *markdown(["event", result.simulator, "MuJoCo"], _event_rows(ev_c, ev_m)).splitlines(),
         "",
         "## The three solref mappings",
         "",
         "How MuJoCo's soft contact is set from k and c (docs/physics.md); shown, not judged: with MuJoCo's own "
         "contact the difference is measured and attributed below.",
         "",
-        "| mapping | max position difference | RMS | max angle difference | MuJoCo energy drift |",
-        "|---|---|---|---|---|",
     ]
+    rows = []
     for mapping, row in result.by_mapping.items():
         if "error" in row:
-            lines.append(f"| {mapping} | diverged: {row['error']} | | | |")
+            rows.append([mapping, f"diverged: {row['error']}", "", "", ""])
             continue
-        lines.append(f"| {mapping}{' (scene)' if mapping == scene.mujoco.solref else ''} "
-                     f"| {_fmt(row['position_error_max'], ' m')} | {_fmt(row['position_error_rms'], ' m')} "
-                     f"| {_fmt(row['angle_error_max'], ' rad')} | {_fmt(row['energy_drift_mujoco'], ' J')} |")
+        rows.append([f"{mapping}{' (scene)' if mapping == scene.mujoco.solref else ''}",
+                     _num(row["position_error_max"], " m"), _num(row["position_error_rms"], " m"),
+                     _num(row["angle_error_max"], " rad"), _num(row["energy_drift_mujoco"], " J")])
+    lines += markdown(["mapping", "max position difference", "RMS", "max angle difference", "MuJoCo energy drift"],
+                      rows).splitlines()
     lines += [""] + attribution_section(result.attribution)
     lines += ["Every way the twin is built differently:", ""]
     for note in twin.meta.get("approximations", []):
@@ -235,11 +212,33 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
     return "\n".join(lines)
 
 
+def _event_rows(ev_c: dict, ev_m: dict) -> list[list[str]]:
+    """The Events table's rows: each event of the simulator under test and of MuJoCo."""
+    def listed(values, spec):
+        return ", ".join(format(v, spec) for v in values[:4]) or DASH
+
+    def pose(p):
+        return f"{p['x']:.4f} m, {p['y']:.4f} m, {p['theta']:.4f} rad"
+    rows = [["first contact (s)", _num(ev_c["first_contact_time"]), _num(ev_m["first_contact_time"])],
+            ["bounce apex heights (m)", listed(ev_c["bounce_apex_heights"], ".4f"),
+             listed(ev_m["bounce_apex_heights"], ".4f")],
+            ["restitution implied", listed(ev_c["restitution"], ".3f"), listed(ev_m["restitution"], ".3f")],
+            ["at rest from (s)", _num(ev_c["rest_time"]), _num(ev_m["rest_time"])]]
+    if "rolling_time" in ev_c:
+        rows.append(["rolling without slip from (s)", _num(ev_c["rolling_time"]), _num(ev_m["rolling_time"])])
+    return rows + [["final pose x, y, theta", pose(ev_c["final_pose"]), pose(ev_m["final_pose"])]]
+
+
 def _status_cell(row: dict, failed: str) -> str:
     status = row.get("status", "pass" if row["pass"] else "FAIL")
     if status == "FAIL":
         return "**FAIL**: " + failed
     return "**not judged**" if status == "not judged" else status
+
+
+INDEX_HEADERS = ["scenario", "simulator", "body", "integrator", "dt (s)", "pos. max (m)", "pos. RMS (m)",
+                 "angle max (rad)", "drift R (J)", "dissipated W (J)", "drift R MuJoCo (J)", "time (s)",
+                 "time MuJoCo (s)", "result"]
 
 
 def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
@@ -253,33 +252,26 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
         "energy its numerics created or destroyed, with the work W the scene's damping, friction and rolling "
         "resistance dissipated beside it (docs/energy-balance.md), *time* the wall time of the stepping alone.",
         "",
-        "| scenario | simulator | body | integrator | dt (s) | pos. max (m) | pos. RMS (m) | angle max (rad) "
-        "| drift R (J) | dissipated W (J) | drift R MuJoCo (J) | time (s) | time MuJoCo (s) | result |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
+    table = []
     for r in rows:
         own = r["energy_balance"][r.get("simulator", "custom_sim")]
         twin = r["energy_balance"]["mujoco"]
         failed = ", ".join(r.get("failed_checks", []))
-        lines.append(
-            f"| [{r['name']}]({r['name']}/index.md) | {r.get('simulator', 'custom_sim')} | {r['shape']} "
-            f"| {r['integrator']} | {r['dt']:g} "
-            f"| {_fmt(r['position_error_max'])} | {_fmt(r['position_error_rms'])} | {_fmt(r['angle_error_max'])} "
-            f"| {_fmt(own['residual_end'])} | {_fmt(sum(own['dissipated'].values()))} | {_fmt(twin['residual_end'])} "
-            f"| {_fmt(r['wall_time_custom'])} | {_fmt(r['wall_time_mujoco'])} "
-            f"| {_status_cell(r, failed)} |")
-    for name, status, why in failures:
-        lines.append(f"| {name} | | | | | | | | | | | | | **{status}**: {why} |")
-    lines += ["", "## Every judged check", "",
-              "| scenario | check | largest position difference (m) | tolerance (m) | largest angle difference (rad) "
-              "| tolerance (rad) | verdict |", "|---|---|---|---|---|---|---|"]
-    for r in rows:
-        for c in map(CheckRow.from_json, r["checks"]):
-            if c.passed is None:
-                continue
-            lines.append(f"| {r['name']} | {c.label} | {_fmt(c.position_error_max)} "
-                         f"| {_fmt(c.tolerance_position)} | {_fmt(c.angle_error_max)} "
-                         f"| {_fmt(c.tolerance_angle)} | {_verdict(c.passed)} |")
+        table.append([f"[{r['name']}]({r['name']}/index.md)", r.get("simulator", "custom_sim"), r["shape"],
+                      r["integrator"], f"{r['dt']:g}",
+                      *map(_num, (r["position_error_max"], r["position_error_rms"], r["angle_error_max"],
+                                  own["residual_end"], sum(own["dissipated"].values()), twin["residual_end"],
+                                  r["wall_time_custom"], r["wall_time_mujoco"])),
+                      _status_cell(r, failed)])
+    table += [[name, *[""] * 12, f"**{status}**: {why}"] for name, status, why in failures]
+    lines += markdown(INDEX_HEADERS, table).splitlines()
+    lines += ["", "## Every judged check", ""]
+    checks = [[r["name"], c.label, *map(_num, (c.position_error_max, c.tolerance_position, c.angle_error_max,
+                                               c.tolerance_angle)), _verdict(c.passed)]
+              for r in rows for c in map(CheckRow.from_json, r["checks"]) if c.passed is not None]
+    lines += markdown(["scenario", "check", "largest position difference (m)", "tolerance (m)",
+                       "largest angle difference (rad)", "tolerance (rad)", "verdict"], checks).splitlines()
     lines.append("")
     return "\n".join(lines)
 

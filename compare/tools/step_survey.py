@@ -1,6 +1,6 @@
 """Check `step` on custom_sim over every built-in and stress scene, all four integrators, full length.
 
-    python -m compare.tools.step_survey [--window STEPS] [SCENE ...]
+    python -m compare tools step-survey [--window STEPS] [SCENE ...]   (compare/commands/tools/step_survey.py)
 
 Prints one row per scene and integrator: steps, the largest residual against its round-off bound,
 the check's verdict, and where it first fails. Exit status 1 when any step fails. custom_sim's
@@ -10,9 +10,7 @@ so in its verdict.
 """
 from __future__ import annotations
 
-import argparse
 import dataclasses
-import sys
 import time
 
 from custom_sim import SimulationDiverged, simulate
@@ -21,6 +19,7 @@ from compare.scenarios import load, load_builtins
 
 from ..oracle.one_step import METHODS
 from ..checks.step_check import check_step
+from ..table import stream
 
 
 def survey(scenes, window: int | None = None):
@@ -43,35 +42,31 @@ def survey(scenes, window: int | None = None):
     return rows
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m compare.tools.step_survey", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("scenes", nargs="*", help="scene names (default: every built-in and stress scene)")
-    parser.add_argument("--window", type=int, default=None, help="check only the first STEPS steps")
-    args = parser.parse_args(argv)
-    scenes = [load(s) for s in args.scenes] or load_builtins() + load_builtins("stress")
+def print_survey(names: list[str], window: int | None = None) -> int:
+    """The survey of the named scenes (default: every built-in and stress scene) as a Markdown
+    table; 1 when a step fails, else 0."""
+    scenes = [load(s) for s in names] or load_builtins() + load_builtins("stress")
     bad = 0
-    print("| scene | integrator | steps | check s | largest residual / bound | verdict | first failing step |")
-    print("|---|---|---|---|---|---|---|")
-    for r in survey(scenes, args.window):
-        if "diverged" in r:
-            print(f"| {r['scene']} | {r['integrator']} | | | | diverged at step {r['diverged']} | |")
-            continue
-        row = r["row"]
-        where = ""
-        if not row.passed:
-            d = row.details
-            where = f"{d['first_step']} ({d['component']}; {d['phase']})"
-            bad += 1
-            verdict = "FAIL"
-            if r["unconverged"]:
-                verdict += f" (custom_sim's Newton unconverged on {r['unconverged']} step(s))"
-        else:
-            verdict = "pass"
-        print(f"| {r['scene']} | {r['integrator']} | {r['steps']} | {r['seconds']:.2f} | "
-              f"{row.details['bound_ratio_max']:.3g} | {verdict} | {where} |")
+
+    def rows():
+        nonlocal bad
+        for r in survey(scenes, window):
+            if "diverged" in r:
+                yield [r["scene"], r["integrator"], "", "", "", f"diverged at step {r['diverged']}", ""]
+                continue
+            row = r["row"]
+            where = ""
+            if not row.passed:
+                d = row.details
+                where = f"{d['first_step']} ({d['component']}; {d['phase']})"
+                bad += 1
+                verdict = "FAIL"
+                if r["unconverged"]:
+                    verdict += f" (custom_sim's Newton unconverged on {r['unconverged']} step(s))"
+            else:
+                verdict = "pass"
+            yield [r["scene"], r["integrator"], str(r["steps"]), f"{r['seconds']:.2f}",
+                   f"{row.details['bound_ratio_max']:.3g}", verdict, where]
+    stream(["scene", "integrator", "steps", "check s", "largest residual / bound", "verdict", "first failing step"],
+           rows())
     return 1 if bad else 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

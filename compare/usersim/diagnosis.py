@@ -28,6 +28,7 @@ from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
 from ..checks import mistakes
 from ..checks.case import as_case
+from ..table import markdown, number
 from .errors import UserCodeError, UserFault
 from .law_diagnosis import law_findings, law_verdict
 from .moments import not_probed, pick_moments
@@ -191,8 +192,17 @@ def _trajectory_where(row) -> str:
             f"{row.angle_error_max:.3g} rad")
 
 
-def _fmt(v) -> str:
-    return "" if v is None else f"{v:.3g}" if isinstance(v, float) else str(v)
+COMPONENTS = ("x", "y", "theta", "vx", "vy", "omega")
+UNITS = ["x (m)", "y (m)", "theta (rad)", "vx (m/s)", "vy (m/s)", "omega (rad/s)"]
+
+
+def _num(v) -> str:
+    """3 significant digits, an empty cell for a value that is missing."""
+    return number(v, none="")
+
+
+def _table(headers, rows) -> list[str]:
+    return markdown(headers, rows).splitlines() + [""]
 
 
 def diagnosis_markdown(diag: dict) -> str:
@@ -221,25 +231,22 @@ def render_markdown(diag: dict, heading: bool = True) -> str:
     """The report's "Diagnosis" section (markdown)."""
     lines = (["## Diagnosis", ""] if heading else []) + [f"**{diag['verdict']}**", ""]
     if diag["named"]:
-        lines += ["| mistake | seed line | what it does |", "|---|---|---|"]
-        lines += [f"| `{n['name']}` | {n['seed_line']} | {n['description']} |" for n in diag["named"]]
-        lines.append("")
+        lines += _table(["mistake", "seed line", "what it does"],
+                        [[f"`{n['name']}`", n["seed_line"], n["description"]] for n in diag["named"]])
     if diag.get("not_named"):
         lines += ["Not named: each explains some steps, not every one (a mistake is named only where it "
-                  "reproduces every probed step to round-off):", "",
-                  "| mistake | steps it does not explain | of | where |", "|---|---|---|---|"]
-        lines += [f"| `{n['name']}` | {_fmt(n['steps_off'])} | {_fmt(n['steps'])} | "
-                  f"{'your trajectory' if n['where'] == 'trajectory' else 'chosen moments'} |"
-                  for n in diag["not_named"]]
-        lines.append("")
+                  "reproduces every probed step to round-off):", ""]
+        lines += _table(["mistake", "steps it does not explain", "of", "where"],
+                        [[f"`{n['name']}`", _num(n["steps_off"]), _num(n["steps"]),
+                          "your trajectory" if n["where"] == "trajectory" else "chosen moments"]
+                         for n in diag["not_named"]])
     forces = _force_rows(diag)
     if forces:
         lines += ["Your step minus the reference step, as the force that makes it (m dv / dt, I domega / dt; "
-                  f"dt = {_fmt(forces[0][1]['dt'])} s, m = {_fmt(forces[0][1]['mass'])} kg):", "",
-                  "| where | off by | Fx (N) | Fy (N) | torque (N m) | acting at |", "|---|---|---|---|---|---|"]
-        lines += [f"| {where} | {f.get('off', '')} | {f['Fx']:.3g} | {f['Fy']:.3g} | {_fmt(f['torque'])} | "
-                  f"{_acting_at(f)} |" for where, f in forces]
-        lines.append("")
+                  f"dt = {_num(forces[0][1]['dt'])} s, m = {_num(forces[0][1]['mass'])} kg):", ""]
+        lines += _table(["where", "off by", "Fx (N)", "Fy (N)", "torque (N m)", "acting at"],
+                        [[where, f.get("off", ""), f"{f['Fx']:.3g}", f"{f['Fy']:.3g}", _num(f["torque"]),
+                          _acting_at(f)] for where, f in forces])
     m = diag.get("moments")
     if m is not None:
         lines += ["### Your step from chosen moments of custom_sim's run", "", m.get("verdict", ""), ""]
@@ -248,33 +255,24 @@ def render_markdown(diag: dict, heading: bool = True) -> str:
             lines += [f"- {g['name']}: {g['effect']}; {g['why']}" for g in m["not_probed"]]
             lines.append("")
         if m.get("moments"):
-            lines += ["| moment | step | what | agrees | component | largest residual / round-off | explained by |",
-                      "|---|---|---|---|---|---|---|"]
-            for e in m["moments"]:
-                lines.append(f"| {e['name']} | {e.get('step', '')} | {e.get('what', e.get('phase', ''))} | "
-                             f"{'yes' if e['agrees'] else '**no**'} | {e['component'] or ''} | "
-                             f"{_fmt(e['ratio_max'])} | {', '.join(e['explained_by'])} |")
-            lines += ["", "Residuals per component (your step minus the reference step, from the same state):", "",
-                      "| moment | x (m) | y (m) | theta (rad) | vx (m/s) | vy (m/s) | omega (rad/s) |",
-                      "|---|---|---|---|---|---|---|"]
-            for e in m["moments"]:
-                r = e["residual"]
-                lines.append(f"| {e['name']} | " + " | ".join(f"{r[c]:.3g}" for c in
-                                                           ("x", "y", "theta", "vx", "vy", "omega")) + " |")
-            lines.append("")
+            lines += markdown(["moment", "step", "what", "agrees", "component", "largest residual / round-off",
+                               "explained by"],
+                              [[e["name"], str(e.get("step", "")), e.get("what", e.get("phase", "")),
+                                "yes" if e["agrees"] else "**no**", e["component"] or "", _num(e["ratio_max"]),
+                                ", ".join(e["explained_by"])] for e in m["moments"]]).splitlines()
+            lines += ["", "Residuals per component (your step minus the reference step, from the same state):", ""]
+            lines += _table(["moment", *UNITS],
+                            [[e["name"], *(f"{e['residual'][c]:.3g}" for c in COMPONENTS)] for e in m["moments"]])
     t = diag["trajectory"]
     lines += ["### Every step of your trajectory", "", t.get("verdict", ""), ""]
     row = t.get("step", {})
     if row.get("residual_max"):
-        lines += ["| | x (m) | y (m) | theta (rad) | vx (m/s) | vy (m/s) | omega (rad/s) |",
-                  "|---|---|---|---|---|---|---|",
-                  "| largest one-step residual | " + " | ".join(f"{row['residual_max'][c]:.3g}" for c in
-                                                           ("x", "y", "theta", "vx", "vy", "omega")) + " |", ""]
+        lines += _table(["", *UNITS],
+                        [["largest one-step residual", *(f"{row['residual_max'][c]:.3g}" for c in COMPONENTS)]])
     tried = [x for x in t.get("mistakes", []) if not x.get("screened_out")]
     if tried:
-        lines += ["Catalogued mistakes stepped over the whole trajectory:", "",
-                  "| mistake | explains | first step off | largest residual / round-off |", "|---|---|---|---|"]
-        lines += [f"| `{x['name']}` | {'yes' if x['explains'] else 'no'} | {_fmt(x.get('first_step'))} | "
-                  f"{_fmt(x.get('ratio_max'))} |" for x in tried]
-        lines.append("")
+        lines += ["Catalogued mistakes stepped over the whole trajectory:", ""]
+        lines += _table(["mistake", "explains", "first step off", "largest residual / round-off"],
+                        [[f"`{x['name']}`", "yes" if x["explains"] else "no", _num(x.get("first_step")),
+                          _num(x.get("ratio_max"))] for x in tried])
     return "\n".join(lines)

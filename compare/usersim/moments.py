@@ -1,21 +1,12 @@
 """Moments worth probing a step function at, picked from custom_sim's run of the scene.
 
-Each kind of moment exercises different lines of the seed's algorithm, and is picked only where
-that effect acts (a force changing the step by ACTIVE_ROUNDOFFS round-offs at least): a state
-where it does not act would agree with any simulator, and prove nothing.
+    pick_moments(scene, states) -> [Moment(kind, row, what)]   at most one of each kind:
+        flight, touchdown, rebound, sliding, rolling, resting
 
-    flight       gravity alone (and free spin): the integrator, the mass
-    touchdown    the first state after a flight with a contact force: the normal force, its damper
-    rebound      a loaded point leaving the ground (normal velocity up): the damping law, where
-                 compression-only, linear and unclamped damping differ
-    sliding      a loaded point slipping beyond 1/alpha while the body turns: friction on the
-                 slip velocity v + omega x r, the torque r x F, the inertia
-    rolling      the circle under load with |slip| <= 1/alpha and spinning: rolling resistance
-    resting      slow, the ground carrying the weight (RESTING_LOAD), the last such state: the
-                 balance of weight and contact force
-
-A moment is a row index into the run's states; the step probed is the one from that row.
-`not_probed` says which of the scene's effects no state of the run lets a moment probe.
+A moment is a row index into the run's states (the step probed is the one from that row),
+picked only where the effect it probes acts (a force changing the step by ACTIVE_ROUNDOFFS
+round-offs at least). `not_probed` says which of the scene's effects no state lets a moment
+probe. What each kind exercises: docs/validate-your-simulator.md#reading-the-diagnosis.
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """What the harness adds per step to a user's Python step function, measured in one run.
 
-    python -m compare.usersim.overhead [MODULE:FUNCTION] [--scene NAME] [--steps N]
+    python -m compare tools overhead [MODULE:FUNCTION] [--scene NAME] [--steps N]
 
 Times, interleaved and the minimum of repeats kept, (1) a bare loop calling a no-op step
 `step(state, scene, dt) -> state` n times, (2) the harness's own loop (StepFunction.run) around
@@ -10,9 +10,7 @@ worked example) on the scene: ns per step and the whole run's wall time.
 """
 from __future__ import annotations
 
-import argparse
 import dataclasses
-import sys
 import tempfile
 import time
 from pathlib import Path
@@ -24,6 +22,7 @@ from .loader import StepFunction
 from .scene_dict import scene_dict
 
 OVERHEAD_GOAL = 2e-6   # s per step the harness may add (issue 11)
+DEFAULT_SIM = str(Path(__file__).resolve().parents[2] / "examples" / "seed_sim.py") + ":step"
 NOOPS = {"array": "def step(state, scene, dt):\n    return state\n",
          "list": "def step(state, scene, dt):\n    return [0.0, 0.3, 0.0, 0.0, 0.0, 0.0]\n"}
 
@@ -52,14 +51,12 @@ def measure_overhead(scene, kind: str, repeats: int = 7) -> dict:
     return {"kind": kind, "bare_s_per_step": b, "harness_s_per_step": h, "overhead_s_per_step": h - b}
 
 
-def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="python -m compare.usersim.overhead", description=__doc__.splitlines()[0])
-    p.add_argument("sim", nargs="?", default=str(Path(__file__).resolve().parents[2] / "examples" / "seed_sim.py") + ":step")
-    p.add_argument("--scene", default="box_drop")
-    p.add_argument("--steps", type=int, default=20_000)
-    args = p.parse_args(argv)
-    scene = load(args.scene)
-    scene = dataclasses.replace(scene, duration=args.steps * scene.dt)
+def print_overhead(spec: str | None = None, scene_name: str = "box_drop", steps: int = 20_000) -> int:
+    """The no-op steps' overhead, then spec's step (default DEFAULT_SIM) on the scene, `steps`
+    long; 0 when the overhead is within OVERHEAD_GOAL, else 1."""
+    spec = spec or DEFAULT_SIM
+    scene = load(scene_name)
+    scene = dataclasses.replace(scene, duration=steps * scene.dt)
     worst = 0.0
     for kind in NOOPS:
         r = measure_overhead(scene, kind)
@@ -67,14 +64,10 @@ def main(argv=None) -> int:
         print(f"no-op step returning a {kind:<5}: bare {r['bare_s_per_step'] * 1e9:7.0f} ns/step, "
               f"in the harness {r['harness_s_per_step'] * 1e9:7.0f} ns/step, "
               f"harness adds {r['overhead_s_per_step'] * 1e9:6.0f} ns/step")
-    sim = StepFunction(args.sim)
+    sim = StepFunction(spec)
     run = min((sim.run(scene) for _ in range(3)), key=lambda r: r.wall_time)
-    print(f"{args.sim} on {scene.name} ({scene.integrator}), {scene.steps} steps: "
+    print(f"{spec} on {scene.name} ({scene.integrator}), {scene.steps} steps: "
           f"{run.wall_time / scene.steps * 1e6:.1f} us/step, {run.wall_time:.2f} s for the run")
     ok = worst <= OVERHEAD_GOAL
     print(f"harness overhead {worst * 1e9:.0f} ns/step: {'within' if ok else 'ABOVE'} the {OVERHEAD_GOAL * 1e6:g} us goal")
     return 0 if ok else 1
-
-
-if __name__ == "__main__":
-    sys.exit(main())

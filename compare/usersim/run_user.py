@@ -6,7 +6,7 @@ import numpy as np
 from custom_sim import Scene, Trajectory, mass_properties, stable_step
 from custom_sim.energy import energy_parts
 from custom_sim.integrators import first_unhealthy
-from custom_sim.simulate import blowup_guard, state_text
+from custom_sim.runner import blowup_guard, state_text
 
 from .errors import UserDiverged
 from .loader import UserRun

@@ -14,7 +14,7 @@ from custom_sim import load_scene, simulate
 from custom_sim.integrators import INTEGRATORS, integrate
 from custom_sim.model import build_model, initial_state
 from custom_sim.bodies import mass_properties
-from custom_sim.simulate import blowup_guard
+from custom_sim.runner import blowup_guard
 
 ROLLING = load_scene("scenarios/rolling_circle.toml")
 

@@ -21,7 +21,8 @@ def point_scene(**contact):
 
 @pytest.mark.parametrize("c", [0.0, 20.0, 60.0])
 def test_point_mass_penalty_twin_is_ours_plus_the_impedance_force(c):
-    """The derivation in solref.py, checked step by step: for a point A = A_hat, so the penalty
+    """The derivation in docs/physics.md (how the mappings are derived), checked step by step:
+    for a point A = A_hat, so the penalty
     row's force is exactly max(0, k d - c v + d_imp m g), ours plus the extra force
     max(0, F + d_imp m g) - max(0, F). Driving ours with that extra force (computed from the
     twin's states) must give the twin's trajectory to round-off."""

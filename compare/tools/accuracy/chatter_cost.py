@@ -1,6 +1,6 @@
 """What watching for chatter costs: ns per step with and without the tracker, in one run.
 
-    python -m compare.tools.accuracy.chatter_cost [SCENE ...]
+    python -m compare tools chatter-cost [SCENE ...]
 
 Each scene (default: the built-ins) runs its full duration with its integrator and dt in the
 compiled loop, recording nothing, twice per round: with the chatter tracker (custom_sim's
@@ -10,7 +10,6 @@ time of the stepping thread, so load from other processes falls on neither side 
 """
 from __future__ import annotations
 
-import sys
 import time
 
 import numpy as np
@@ -18,9 +17,10 @@ import numpy as np
 from custom_sim import INTEGRATORS, mass_properties
 from custom_sim.integrators import integrate
 from custom_sim.model import build_model, initial_state
-from custom_sim.simulate import blowup_guard, new_watch
+from custom_sim.runner import blowup_guard, new_watch
 
 from ...scenarios import load_all
+from ...table import stream
 
 ROUNDS = 5
 
@@ -49,19 +49,12 @@ def cost(scene) -> tuple[float, float]:
     return best["with"] / scene.steps * 1e9, best["without"] / scene.steps * 1e9
 
 
-def main(argv: list[str]) -> None:
-    import argparse
-    parser = argparse.ArgumentParser(prog="python -m compare.tools.accuracy.chatter_cost", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("scenes", nargs="*", metavar="SCENE", help="default: the built-in scenes")
-    argv = parser.parse_args(argv).scenes
-    print("| scene | integrator | steps | ns/step, chatter watched | ns/step, not watched | extra |")
-    print("|---|---|---|---|---|---|")
-    for scene in load_all(argv or None):
-        with_, without = cost(scene)
-        print(f"| {scene.name} | {scene.integrator} | {scene.steps} | {with_:.1f} | {without:.1f} | "
-              f"{with_ / without - 1:+.0%} |", flush=True)
-
-
-if __name__ == "__main__":
-    main(sys.argv[1:])
+def print_table(names: list[str]) -> int:
+    """The costs of the named scenes (default: the built-ins), in Markdown; 0."""
+    def rows():
+        for scene in load_all(names or None):
+            with_, without = cost(scene)
+            yield [scene.name, scene.integrator, str(scene.steps), f"{with_:.1f}", f"{without:.1f}",
+                   f"{with_ / without - 1:+.0%}"]
+    stream(["scene", "integrator", "steps", "ns/step, chatter watched", "ns/step, not watched", "extra"], rows())
+    return 0

@@ -27,6 +27,8 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from ...table import text
+
 ROOT = Path(__file__).resolve().parents[3]
 
 # The compile probe: works on any revision of custom_sim (no warm_up needed); one process,
@@ -34,7 +36,7 @@ ROOT = Path(__file__).resolve().parents[3]
 COMPILE_PROBE = """
 import dataclasses, numpy as np, custom_sim as cs
 from custom_sim.integrators import first_unhealthy
-from custom_sim.simulate import blowup_guard
+from custom_sim.runner import blowup_guard
 scene = cs.load_scene('scenarios/box_drop.toml')
 for name in cs.INTEGRATORS:
     traj = cs.simulate(dataclasses.replace(scene, duration=10 * scene.dt, integrator=name))
@@ -127,11 +129,8 @@ def load_average() -> str:
 
 def table(results: list[tuple[str, ColdStart]]) -> str:
     """The figures as a text table, one column pair (wall, CPU) per checkout."""
-    head = f"{'':<34}" + "".join(f"{label:>24}" for label, _ in results)
-    sub = f"{'':<34}" + "".join(f"{'wall s':>12}{'cpu s':>12}" for _ in results)
-    lines = [head, sub]
-    for key, text in (("compile", "compile (empty cache)"), ("run_warm", "run, cache warm"),
-                      ("first_run", "first run (empty cache)"), ("second_run", "second run")):
-        cells = "".join(f"{getattr(r, key).wall:>12.1f}{getattr(r, key).cpu:>12.1f}" for _, r in results)
-        lines.append(f"{text:<34}{cells}")
-    return "\n".join(lines)
+    headers = ["stage", *(f"{label} {kind} s" for label, _ in results for kind in ("wall", "cpu"))]
+    rows = [[words, *(f"{t:.1f}" for _, r in results for t in (getattr(r, key).wall, getattr(r, key).cpu))]
+            for key, words in (("compile", "compile (empty cache)"), ("run_warm", "run, cache warm"),
+                               ("first_run", "first run (empty cache)"), ("second_run", "second run"))]
+    return text(headers, rows, align=["left", *["right"] * (len(headers) - 1)])

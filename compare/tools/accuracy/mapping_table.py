@@ -1,6 +1,6 @@
 """How far each solref mapping's twin lands from the hand-written simulator, per scene.
 
-    python -m compare.tools.accuracy.mapping_table [SCENE ...]     (default: every built-in scene)
+    python -m compare tools mapping-table [SCENE ...]     (default: every built-in scene)
 
 prints, for each scene, the maximum distance (m) between the COM of simulate(scene) and of
 simulate_mujoco(scene, solref=mapping) for the three mappings; the same for the penalty twin
@@ -10,7 +10,6 @@ law and the mapping); and MuJoCo's time per mj_step (ns, the fastest of REPEATS 
 from __future__ import annotations
 
 import dataclasses
-import sys
 
 import numpy as np
 
@@ -48,18 +47,17 @@ def ns_per_step(scene: Scene, repeats: int = REPEATS) -> float:
     return rollout_ns_per_step(model, data, start, n, repeats)
 
 
-def main(argv: list[str] | None = None) -> int:
+def print_table(names: list[str]) -> int:
+    """The table of the named scenes (default: every built-in scene), in Markdown; 0."""
     from compare.scenarios import builtin_names, load
+    from compare.table import stream
 
-    names = (argv if argv is not None else sys.argv[1:]) or builtin_names()
-    print("| scene | penalty (m) | physical (m) | seed (m) | penalty vs our linear law (m) | CPU ns per mj_step |")
-    print("|---|---|---|---|---|---|")
-    for name in names:
-        e = mapping_errors(load(name))
-        print(f"| {name} | {e['penalty']:.3g} | {e['physical']:.3g} | {e['seed']:.3g} | "
-              f"{e['penalty_vs_linear_law']:.3g} | {e['ns_per_step']:.0f} |", flush=True)
+    names = names or builtin_names()
+    def rows():
+        for name in names:
+            e = mapping_errors(load(name))
+            yield [name, *(f"{e[k]:.3g}" for k in ("penalty", "physical", "seed", "penalty_vs_linear_law")),
+                   f"{e['ns_per_step']:.0f}"]
+    stream(["scene", "penalty (m)", "physical (m)", "seed (m)", "penalty vs our linear law (m)", "CPU ns per mj_step"],
+           rows())
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

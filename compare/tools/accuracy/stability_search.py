@@ -1,38 +1,14 @@
 """The largest stable step of each integrator, found by bisection, beside the linear theory.
 
-A run with step h is *stable* when
+    custom_limit(scene, integrator, scale) / mujoco_limit(...) -> StabilityLimit (h_max in s)
+    largest_stable_step(is_stable, h_start)    bisection on log h, then a scan below the threshold
+    theory(scene, integrator)                  custom_sim/stability.py's limits, by what sets them
 
-  1. it does not diverge (the state stays finite and within custom_sim's healthy range; for
-     MuJoCo also no automatic reset, see `mujoco_stable`),
-  2. it does not chatter: no contact point's slip or normal velocity flips sign at every step,
-     without decaying, over custom_sim.chatter.CHATTER_STEPS steps (the definition, and why it
-     never flags a physical motion, is custom_sim/chatter.py's docstring; simulate raises
-     SimulationChattered), and
-  3. its energy does not grow: every force besides gravity and the contact spring dissipates
-     (damping c max(0, -vc_y) or Kelvin-Voigt, friction -mu Fn tanh(alpha vc_x) against the slip,
-     rolling resistance against omega), so the exact motion never gains energy. A run whose
-     energy rises above E(0) by more than ENERGY_GROWTH_LIMIT of the motion's energy scale
-     (the largest kinetic energy of the reference motion) is pumping energy in: a bounce
-     higher than the drop, a rest that starts to rattle.
-
-Chatter is bounded: a slip flipping between +- h mu Fn / m_t gains no energy, and a resting
-body's period-2 oscillation is held by the contact's one-sidedness, so criterion 3 alone
-calls such runs stable (an earlier search by energy alone put point_drop's semi-implicit limit
-100 times above the step at which its slip starts to chatter). MuJoCo's runs are judged by 1
-and 3 only.
-
-Energy is read only at *quiet* samples, where the elastic contact energy is below
-QUIET_CONTACT_SHARE of the energy scale (free flight, or resting). Inside a hard contact a
-stable integrator's energy read at the step ends swings with the step size: symplectic Euler
-conserves v^2 + wn^2 x^2 - h wn^2 x v, not the energy, so the energy read mid-contact is off by
-up to h wn / 2 of the contact energy even though nothing grows. That is an accuracy effect,
-and this search is about stability.
-
-Bisection assumes one threshold: stable below, unstable above. It brackets the threshold by
-doubling (or halving) from the scene's step, then halves the bracket in log h until its ends
-are within BISECTION_RATIO. Results are `StabilityLimit`s; `h_max` is a lower bound when
-`capped` (nothing went unstable up to MAX_STEP) and an upper bound when `below` (even
-MIN_STEP was unstable).
+A run is stable when it does not diverge (for MuJoCo: no reset), does not chatter
+(custom_sim/chatter.py; MuJoCo's runs are not watched) and its energy at quiet samples does not
+rise above E(0) by more than ENERGY_GROWTH_LIMIT of the motion's largest kinetic energy (J).
+Why each criterion, and how the bisection copes with interleaved stable and unstable steps:
+docs/stability.md#how-the-search-measures-a-stable-step.
 """
 from __future__ import annotations
 
@@ -46,12 +22,10 @@ from custom_sim import (Scene, SimulationChattered, SimulationDiverged, mass_pro
                         stable_step)
 from scene_types.schema import Body
 
-# A rise of 10 % of the energy in motion is far above what a stable integrator shows at quiet
-# samples (the measured drift of a stable symplectic Euler bounce is below 1 % per bounce at
-# its largest stable step) and far below what an unstable one reaches within a run (it grows
-# geometrically once h is past the limit).
+# far above a stable integrator's drift at quiet samples (< 1 % per bounce), far below what an
+# unstable one reaches within a run (docs/stability.md#how-the-search-measures-a-stable-step)
 ENERGY_GROWTH_LIMIT = 0.10
-QUIET_CONTACT_SHARE = 0.01
+QUIET_CONTACT_SHARE = 0.01  # energy is read where the contact holds less than this share of it
 
 BISECTION_RATIO = 1.01      # bracket ends within 1 %
 SCAN_RATIO = 1.02           # the scan below a threshold: steps 2 % apart ...
@@ -90,7 +64,7 @@ def energy_scale(reference_states: np.ndarray, scene: Scene) -> float:
 
 
 def energy_verdict(energy: np.ndarray, contact_energy: np.ndarray, scale: float) -> tuple[bool, str]:
-    """(stable, reason) from energies (J) along a run, by the criterion in the module docstring."""
+    """(stable, reason) from energies (J) along a run: criterion 3 of docs/stability.md, at quiet samples."""
     if not np.all(np.isfinite(energy)):
         return False, "non-finite energy"
     quiet = contact_energy <= QUIET_CONTACT_SHARE * scale

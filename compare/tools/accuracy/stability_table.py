@@ -1,6 +1,6 @@
 """Theory against measured: the largest stable step of every scene and integrator.
 
-    python -m compare.tools.accuracy.stability_table [SCENE ...] [--jobs N] [--out FILE]
+    python -m compare tools stability-table [SCENE ...] [--jobs N] [--out FILE]   (compare/commands/tools/stability_table.py)
 
 For each built-in and stress scene (or the named ones) and each of custom_sim's integrators:
 the limit of each effect by custom_sim/stability.py (`limits`), the smallest of them, and the
@@ -11,7 +11,6 @@ it is not says why (NOTES). Prints a Markdown table (and writes it to FILE).
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import sys
@@ -22,6 +21,7 @@ from custom_sim import INTEGRATORS, Scene
 from custom_sim.stability import available_energy, limit_modes, limits
 
 from ...scenarios import builtin_paths, load_all
+from ...table import markdown as markdown_table, number
 from .stability_search import custom_limit
 
 BISECTION = {"ratio": 1.005, "scan_points": 10}  # 0.5 %, then 10 steps 2 % apart below
@@ -101,15 +101,16 @@ def verdict(row: dict) -> str:
     return "ok"
 
 
-def _fmt(x: float) -> str:
-    return "-" if not math.isfinite(x) else f"{x:.3g}"
+HEADERS = ["scene", "integrator", "dt (s)", "contact (s)", "friction (s)", "rolling (s)", "theory: binding mode",
+           "measured (s)", "unstable just above (criterion)", "measured / theory", "verdict"]
+
+
+def _num(x: float, **options) -> str:
+    return number(x, nonfinite="-", **options)
 
 
 def markdown(rows: list[dict]) -> str:
-    head = ["| scene | integrator | dt (s) | contact (s) | friction (s) | rolling (s) | theory: binding mode |"
-            " measured (s) | unstable just above (criterion) | measured / theory | verdict |",
-            "|---|---|---|---|---|---|---|---|---|---|---|"]
-    lines = []
+    cells = []
     for r in rows:
         lim = r["limits"]
         ratio = r["measured"] / r["theory"] if math.isfinite(r["theory"]) and r["theory"] > 0 else math.nan
@@ -117,12 +118,11 @@ def markdown(rows: list[dict]) -> str:
         why = note(r)
         if why and not v.startswith("ok"):
             v = f"{v}: {why}"
-        lines.append(
-            f"| {r['scene']} | {r['integrator']} | {r['dt']:g} | {_fmt(lim.get('contact', math.inf))} | "
-            f"{_fmt(lim.get('friction', math.inf))} | {_fmt(lim.get('rolling_friction', math.inf))} | "
-            f"{_fmt(r['theory'])}: {r['binding']} | {r['text']} | {r['reason'] or '-'} | "
-            f"{'-' if math.isnan(ratio) else f'{ratio:.2f}'} | {v} |")
-    return "\n".join(head + lines)
+        cells.append([r["scene"], r["integrator"], f"{r['dt']:g}",
+                      *(_num(lim.get(k, math.inf)) for k in ("contact", "friction", "rolling_friction")),
+                      f"{_num(r['theory'])}: {r['binding']}", r["text"], r["reason"] or "-",
+                      _num(ratio, decimals=2), v])
+    return markdown_table(HEADERS, cells)
 
 
 def all_scenes(names: list[str]) -> list[Scene]:
@@ -131,35 +131,26 @@ def all_scenes(names: list[str]) -> list[Scene]:
     return load_all([str(p) for p in list(builtin_paths()) + list(builtin_paths("stress"))])
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m compare.tools.accuracy.stability_table", description=__doc__.splitlines()[0])
-    parser.add_argument("scenes", nargs="*", metavar="SCENE")
-    parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--out", metavar="FILE", help="also write the table here")
-    parser.add_argument("--integrator", action="append", choices=list(INTEGRATORS))
-    parser.add_argument("--json", metavar="FILE", help="also write the rows as JSON")
-    parser.add_argument("--measured", metavar="FILE", help="take the measured limits from an earlier --json "
-                        "(they do not depend on the scene's dt) and recompute only the theory")
-    args = parser.parse_args(argv)
-    scenes = all_scenes(args.scenes)
-    tasks = [(s, i) for s in scenes for i in (args.integrator or INTEGRATORS)]
-    if args.measured:   # the measured columns of an earlier run, the theory and dt of today
-        old = {(r["scene"], r["integrator"]): r for r in json.loads(Path(args.measured).read_text())}
+def print_table(names: list[str], jobs: int = 2, out: str | None = None, integrators: list[str] | None = None,
+                json_out: str | None = None, measured: str | None = None) -> int:
+    """The table of the named scenes (default: every built-in and stress scene), measured on
+    `jobs` processes (or the measured columns of an earlier json_out: `measured`); printed, and
+    written to `out`, the rows to `json_out`. 1 when a row is unexplained (optimistic), else 0."""
+    scenes = all_scenes(names)
+    tasks = [(s, i) for s in scenes for i in (integrators or INTEGRATORS)]
+    if measured:   # the measured columns of an earlier run, the theory and dt of today
+        old = {(r["scene"], r["integrator"]): r for r in json.loads(Path(measured).read_text())}
         rows = [dict(old[(s.name, i)], **theory_columns(s, i)) for s, i in tasks]
     else:
-        with ProcessPoolExecutor(max(1, args.jobs)) as pool:
+        with ProcessPoolExecutor(max(1, jobs)) as pool:
             rows = list(pool.map(measure, *zip(*tasks)))
-    if args.json:
-        Path(args.json).write_text(json.dumps(rows, indent=1, default=float))
+    if json_out:
+        Path(json_out).write_text(json.dumps(rows, indent=1, default=float))
     table = markdown(rows)
     print(table)
-    if args.out:
-        Path(args.out).write_text(table + "\n")
+    if out:
+        Path(out).write_text(table + "\n")
     bad = [r for r in rows if verdict(r).startswith(("OPTIMISTIC", "theory has")) and not note(r)]
     for r in bad:
         print(f"unexplained: {r['scene']} {r['integrator']}: {verdict(r)}", file=sys.stderr)
     return 1 if bad else 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,6 +1,6 @@
 """What the dynamics twin's contact law costs: ns per mj_step, measured in one run.
 
-    python -m compare.tools.accuracy.twin_speed [SCENE ...]     (default: every built-in scene)
+    python -m compare tools twin-speed [SCENE ...]     (default: every built-in scene)
 
 For each scene and MuJoCo integrator (Euler, RK4), the CPU time per step of whole-run rollouts
 (the fastest of REPEATS, after a warm-up) of
@@ -11,8 +11,6 @@ For each scene and MuJoCo integrator (Euler, RK4), the CPU time per step of whol
                difference to `dynamics` is what the callback costs)
 """
 from __future__ import annotations
-
-import sys
 
 from mujoco_models.passive import installed, law_parameters
 from mujoco_models.run import rollout_ns_per_step, setup_rollout
@@ -35,25 +33,18 @@ def speeds(scene, integrator: str, repeats: int = REPEATS) -> dict[str, float]:
     return out
 
 
-def main(argv: list[str] | None = None) -> int:
+def print_table(names: list[str]) -> int:
+    """The speeds of the named scenes (default: every built-in scene), in Markdown; 0."""
     from compare.scenarios import builtin_names, load
+    from compare.table import stream
 
-    import argparse
-    parser = argparse.ArgumentParser(prog="python -m compare.tools.accuracy.twin_speed", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("scenes", nargs="*", metavar="SCENE", help="default: every built-in scene")
-    names = parser.parse_args(argv if argv is not None else sys.argv[1:]).scenes or builtin_names()
-    print("| scene | integrator | native twin (ns/step) | dynamics twin, cfunc (ns/step) | "
-          "its model without callback (ns/step) |")
-    print("|---|---|---|---|---|")
-    for name in names:
-        scene = load(name)
-        for integrator in INTEGRATORS:
-            s = speeds(scene, integrator)
-            print(f"| {scene.name} | {integrator} | {s['native']:.0f} | {s['dynamics']:.0f} | {s['bare']:.0f} |",
-                  flush=True)
+    names = names or builtin_names()
+    def rows():
+        for name in names:
+            scene = load(name)
+            for integrator in INTEGRATORS:
+                s = speeds(scene, integrator)
+                yield [scene.name, integrator, *(f"{s[k]:.0f}" for k in ("native", "dynamics", "bare"))]
+    stream(["scene", "integrator", "native twin (ns/step)", "dynamics twin, cfunc (ns/step)",
+            "its model without callback (ns/step)"], rows())
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,33 +1,11 @@
 """Work-precision sweep: what each integrator's accuracy costs, in both simulators.
 
-For every scene (following DiffEqDevTools' work-precision diagrams, docs/physics.md "Accuracy
-against cost"):
-
-  reference    compare.oracle.reference: custom_sim's equations by DOP853 at tight tolerance with
-               every contact switch located as an event; its convergence is checked by the
-               change when the tolerance is tightened 100-fold, and its sensitivity by the
-               growth of a tiny change of the initial height (the error amplification).
-  custom       each of our four integrators at dt = GRID / n for n in LADDER, recording the
-               state every GRID seconds (custom_sim.Stepper, no per-step Python).
-  mujoco       each MuJoCo integrator at dt = GRID / n for n in MUJOCO_LADDER
-               (mujoco_models.simulate_mujoco), and MuJoCo's own converged solution: RK4 at
-               GRID / MUJOCO_CONVERGED_N, checked against RK4 at twice that step.
-
-Error of a run: e(t_k) = |p(t_k) - p_ref(t_k)|, the distance between the centres of mass (m)
-on the common grid t_k = k GRID; `error_max` = max_k e, `error_l2` = sqrt(mean_k e^2) (RMS).
-Ours and MuJoCo's are measured against our reference; MuJoCo's also against its own converged
-solution (`error_max_self`): numerical error alone, the rest is model difference.
-
-Cost of a run: time of the stepping alone, the minimum over repeats after a warm-up (the
-error run is the warm-up), and force evaluations (ours counted by custom_sim; MuJoCo's
-counted as stages per step: 4 for RK4, else 1). The time is the CPU time of the stepping
-thread (`cpu_time`; equal to the wall time on an idle core, and not inflated by other
-processes on a shared machine: see compare/tools/accuracy/benchmark.py); `wall_time` is kept beside it.
-
-Runs are kept only where stable (stability_search.energy_verdict on the grid states); a rung
-predicted to take longer than RUN_BUDGET is skipped (the ladder stops there). The tasks run
-on the engine (compare/executor.py): with Dask (the study extra) a local cluster of single-thread
-worker processes over every core, or an existing cluster; without it a local process pool.
+For every scene: the reference (compare.oracle.reference, DOP853 at tight tolerance), each of
+our integrators at dt = GRID / n for n in LADDER and MuJoCo's for n in MUJOCO_LADDER (s), and
+MuJoCo's own converged solution. Error: the COM distance (m) to the reference on the grid
+t_k = k GRID, max and RMS; cost: force evaluations and the CPU time (s) of the stepping, the
+minimum over repeats. Only stable runs are kept; a rung predicted over RUN_BUDGET is skipped.
+The method: docs/physics.md#8-accuracy-against-cost.
 """
 from __future__ import annotations
 
@@ -42,6 +20,7 @@ import numpy as np
 
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Stepper, mass_properties
 from custom_sim.energy import energy_parts
+from scene_types.integrators import MUJOCO
 
 from ...oracle import reference as ref_mod
 from .stability_search import energy_scale, energy_verdict
@@ -49,7 +28,6 @@ from .stability_search import energy_scale, energy_verdict
 GRID = 2e-3          # s: errors are measured every 2 ms (every step size below divides it)
 LADDER = (1, 2, 4, 10, 20, 40, 100, 200, 400, 1000)       # dt = 2 ms ... 2 us
 MUJOCO_LADDER = (1, 2, 4, 10, 20, 40, 100)                 # dt = 2 ms ... 20 us
-MUJOCO_INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
 MUJOCO_CONVERGED = "RK4"
 MUJOCO_CONVERGED_N = 400                                    # dt = 5 us
 RUN_BUDGET = 1.5      # s: longest single run a rung may take (predicted from the previous rung)
@@ -369,10 +347,10 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
         if stability:
             tasks += [("stability_custom", s, name) for name in INTEGRATORS]
         if mujoco:
-            tasks += [("mujoco", s, name) for name in MUJOCO_INTEGRATORS]
+            tasks += [("mujoco", s, name) for name in MUJOCO]
             tasks.append(("mujoco_converged", s, None))
             if stability:
-                tasks += [("stability_mujoco", s, name) for name in MUJOCO_INTEGRATORS]
+                tasks += [("stability_mujoco", s, name) for name in MUJOCO]
     tasks.sort(key=lambda t: -_WEIGHT[t[0]] * t[1].duration)
     with make_engine(scheduler=scheduler, workers=None if scheduler else (jobs or os.cpu_count() or 1)) as engine:
         references = engine.run(_task, [Task(s.name, ("reference", s, None, None, cache)) for s in scenes],
@@ -388,7 +366,7 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
         conv = {}
         if mujoco:
             conv = results[("mujoco_converged", s.name, None)]
-            for integ in MUJOCO_INTEGRATORS:
+            for integ in MUJOCO:
                 for r in results[("mujoco", s.name, integ)]:
                     if r.stable:
                         r.error_max_self, r.error_l2_self, _ = position_errors(r.states, conv["states"])
@@ -399,19 +377,14 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
         if stability:
             limits = [results[("stability_custom", s.name, i)] for i in INTEGRATORS]
             if mujoco:
-                limits += [results[("stability_mujoco", s.name, i)] for i in MUJOCO_INTEGRATORS]
+                limits += [results[("stability_mujoco", s.name, i)] for i in MUJOCO]
         out.append(SceneSweep(s, ref, runs, conv, limits))
     return out
 
 
 # ---------------------------------------------------------------------------------------
-# The answer to "what is the cheapest way to reach 1 mm here?"
-#
-# Ranked by a cost that noise cannot move: force evaluations (then steps), counted, not timed.
-# Wall and CPU times are shown beside them; one time beats another only when they differ by more
-# than both measured spreads (clearly_faster), so a rerun on a busy machine gives the same answer.
-# Force evaluations compare like with like inside one simulator; implicit Euler also builds one
-# Jacobian per Newton iteration, which they do not count (its time beside them shows it).
+# The answer to "what is the cheapest way to reach 1 mm here?": ranked by force evaluations
+# (then steps), counted, not timed; times only beside them (docs/physics.md#8-accuracy-against-cost)
 
 
 def _error(run: Run, self_error: bool) -> float:

@@ -1,25 +1,13 @@
 """The contact settings a calibration may fit, each with its bounds and what it multiplies.
 
-The scenes of one fit differ in mass, k and c, so a raw solref cannot be shared between them:
-solref = (-k A_hat, -c A_hat) of box_slide (0.5 kg) is 4x that of box_drop (2 kg). A parameter
-is therefore either
+    gain    a factor on the base mapping's value for each scene (dimensionless, 1 = the mapping):
+            solref.stiffness, solref.damping (direct form, on the penalty mapping),
+            solref.timeconst, solref.dampratio (positive form, on the physical mapping),
+            solreffriction.damping, friction.slide, friction.roll
+    value   one number shared by every scene: the five solimp entries and impratio
 
-    gain    a factor on the base mapping's value for each scene (dimensionless, 1 = the mapping)
-            solref.stiffness  MuJoCo stiffness = -gain k A_hat   (direct form, N/m per unit A_hat)
-            solref.damping    MuJoCo damping   = -gain c A_hat
-            solref.timeconst  timeconst = gain / (wn zeta)      (positive form, s)
-            solref.dampratio  dampratio = gain zeta
-            solreffriction.damping   the friction rows' damping = gain x the penalty mapping's
-                              (viscous slope c_t = mu alpha N_ref, mujoco_models/friction.py),
-                              rescaled to the base's solimp dwidth (MuJoCo divides by it)
-            friction.slide    mu_MuJoCo = gain mu;   friction.roll   mu_roll_MuJoCo = gain mu_roll
-    value   one number shared by every scene: the five solimp entries and impratio.
-
-The solref form follows the names: solref.stiffness / solref.damping fit the direct form on top
-of the penalty mapping, solref.timeconst / solref.dampratio the positive form on top of the
-physical mapping; the two forms cannot be mixed in one fit. The fit runs in log space
-(z = ln(p / p0)), so that a gain of 2 and one of 1/2 are as far from 1, and every bound is
-a positive interval.
+The two solref forms cannot be mixed in one fit; the fit runs in z = ln(p / p0). Why gains,
+and what each sets: docs/calibration.md#calibrate-fit-the-twin-to-custom_sim.
 """
 from __future__ import annotations
 

@@ -29,6 +29,7 @@ import numpy as np  # noqa: E402
 from mujoco_models import MAPPINGS  # noqa: E402
 
 from ...report.atomic import finite_json, write_text_atomically  # noqa: E402
+from ...table import markdown, number  # noqa: E402
 from .calibration import Calibration  # noqa: E402
 from .causes import causes, short  # noqa: E402
 
@@ -36,7 +37,8 @@ COLUMNS = (*MAPPINGS[::-1], "calibrated")   # seed, physical, penalty, calibrate
 
 
 def _m(x) -> str:
-    return "diverged" if x is None else f"{x:.3g}"
+    """An error: 3 significant digits, "diverged" where the run has none."""
+    return number(x, none="diverged")
 
 
 def _vec(v) -> str:
@@ -149,21 +151,21 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
                   f"The fit is rejected: the calibrated twin (column *calibrated*, the MJCF files) keeps the "
                   f"{cal.base} mapping's values (column *start*); column *fitted (rejected)* shows what the "
                   f"fit would have given.", ""]
-    lines += ["## Fitted settings", "", f"| parameter | kind | start | fitted{'' if cal.accepted else ' (rejected)'} "
-              f"| bounds | on a bound |", "|---|---|---|---|---|---|"]
-    for p, v0, v in zip(cal.params, r.start, r.values):
-        flag = "**yes**" if any(b.startswith(p.name + " ") for b in r.at_bound) else "no"
-        lines.append(f"| `{p.name}` | {p.kind} | {v0:.4g} | {v:.4g} | [{p.lower:g}, {p.upper:g}] | {flag} |")
+    lines += ["## Fitted settings", ""]
+    lines += markdown(["parameter", "kind", "start", f"fitted{'' if cal.accepted else ' (rejected)'}", "bounds",
+                       "on a bound"],
+                      [[f"`{p.name}`", p.kind, f"{v0:.4g}", f"{v:.4g}", f"[{p.lower:g}, {p.upper:g}]",
+                        "**yes**" if any(b.startswith(p.name + " ") for b in r.at_bound) else "no"]
+                       for p, v0, v in zip(cal.params, r.start, r.values)]).splitlines()
     lines += ["", "A gain multiplies the base mapping's value of each scene (see docs/calibration.md); the "
               "per-scene values are in calibration.json (`settings`) and in the MJCF files.", "",
-              "## Position error max (m) against custom_sim", "",
-              "| scene | role | seed | physical | penalty | calibrated |" + ("" if cal.accepted else " fitted (rejected) |"),
-              "|---|---|---|---|---|---|" + ("" if cal.accepted else "---|")]
-    for s in cal.scenes:
-        e = s.errors
-        lines.append(f"| {s.scene.name} | {'held out' if s.held_out else 'fitted'} | " +
-                     " | ".join(_m(e[k]["position_error_max"]) for k in COLUMNS) + " |" +
-                     ("" if cal.accepted else f" {_m(cal.fitted_errors[s.scene.name]['position_error_max'])} |"))
+              "## Position error max (m) against custom_sim", ""]
+    rejected = [] if cal.accepted else ["fitted (rejected)"]
+    lines += markdown(["scene", "role", *COLUMNS, *rejected],
+                      [[s.scene.name, "held out" if s.held_out else "fitted",
+                        *(_m(s.errors[k]["position_error_max"]) for k in COLUMNS),
+                        *([] if cal.accepted else [_m(cal.fitted_errors[s.scene.name]["position_error_max"])])]
+                       for s in cal.scenes]).splitlines()
     for s in cal.scenes:
         e = {k: s.errors[k]["position_error_max"] for k in COLUMNS}
         best = min((k for k in MAPPINGS if e[k] is not None), key=lambda k: e[k], default=None)
@@ -172,21 +174,19 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
                          f"({_m(e['calibrated'])} m against {_m(e[best])} m): the fitted settings compensate "
                          f"something a contact setting cannot model in the fitted scenes (see below), and the "
                          f"compensation does not carry over.")
-    lines += ["", "Angle error max (rad):", "", "| scene | seed | physical | penalty | calibrated |",
-              "|---|---|---|---|---|"]
-    for s in cal.scenes:
-        lines.append(f"| {s.scene.name} | " + " | ".join(_m(s.errors[k]["angle_error_max"]) for k in COLUMNS) + " |")
-    lines += ["", "## Settings per scene: the three mappings and the calibrated twin", "",
-              "| scene | twin | solref | solimp | solreffriction | friction (slide) | impratio |",
-              "|---|---|---|---|---|---|---|"]
+    lines += ["", "Angle error max (rad):", ""]
+    lines += markdown(["scene", *COLUMNS], [[s.scene.name, *(_m(s.errors[k]["angle_error_max"]) for k in COLUMNS)]
+                                            for s in cal.scenes]).splitlines()
+    lines += ["", "## Settings per scene: the three mappings and the calibrated twin", ""]
+    settings = []
     for s in cal.scenes:
         rows = dict(cal.mapping_settings.get(s.scene.name, {}))
         rows["calibrated"] = s.settings
-        for key in COLUMNS:
-            if key in rows:
-                v = rows[key]
-                lines.append(f"| {s.scene.name} | {key} | {_vec(v.solref)} | {_vec(v.solimp)} | "
-                             f"{_vec(v.solreffriction)} | {v.friction[0]:.4g} | {v.impratio:.4g} |")
+        settings += [[s.scene.name, key, _vec(v.solref), _vec(v.solimp), _vec(v.solreffriction),
+                      f"{v.friction[0]:.4g}", f"{v.impratio:.4g}"]
+                     for key, v in ((k, rows[k]) for k in COLUMNS if k in rows)]
+    lines += markdown(["scene", "twin", "solref", "solimp", "solreffriction", "friction (slide)", "impratio"],
+                      settings).splitlines()
     lines += ["", "## Objective against iterations", "", f"![objective]({figures['objective']})", "",
               "## Residual before and after", ""]
     for s in cal.scenes:
@@ -197,13 +197,12 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
         lines += [f"- {c}" for c in causes(s.scene)] + [""]
     lines += ["## Every fitted setting reaches the model", "",
               "Read back from the MjModel compiled from the calibrated spec, and from the MjModel "
-              "reloaded from the MJCF written here (6 significant digits).", "",
-              "| scene | parameter | field | fitted | compiled | MJCF | ok |", "|---|---|---|---|---|---|---|"]
-    for s in cal.scenes:
-        for row in s.readback:
-            ok = "yes" if row["compiled_equal"] and row["mjcf_equal"] else "**NO**"
-            lines.append(f"| {s.scene.name} | `{row['parameter']}` | {row['field']} | {row['fitted']:.8g} | "
-                         f"{row['compiled']:.8g} | {row['mjcf']:.8g} | {ok} |")
+              "reloaded from the MJCF written here (6 significant digits).", ""]
+    lines += markdown(["scene", "parameter", "field", "fitted", "compiled", "MJCF", "ok"],
+                      [[s.scene.name, f"`{row['parameter']}`", row["field"],
+                        *(f"{row[k]:.8g}" for k in ("fitted", "compiled", "mjcf")),
+                        "yes" if row["compiled_equal"] and row["mjcf_equal"] else "**NO**"]
+                       for s in cal.scenes for row in s.readback]).splitlines()
     lines += ["", "## Files", ""] + [f"- [model_{s.scene.name}.xml](model_{s.scene.name}.xml): the calibrated "
                                       f"MJCF of {s.scene.name}" for s in cal.scenes]
     lines += ["- [calibration.json](calibration.json)", "", "Optimiser log:", "", "```", r.log.strip(), "```", ""]
@@ -254,17 +253,14 @@ def write_reverse(result, targets, out: Path) -> Path:
              f"{result.residual_evaluations} runs", ""]
     if result.at_bound:
         lines += [f"**Stuck on a bound:** {', '.join(result.at_bound)}", ""]
-    lines += ["| scene | MuJoCo mapping | quantity | scene file | fitted (what MuJoCo corresponds to) |",
-              "|---|---|---|---|---|"]
-    for s in scenes:
-        for k in REVERSE_PARAMETERS:
-            unit = f" {UNITS[k]}" if UNITS[k] else ""
-            lines.append(f"| {s['name']} | {s['mapping']} | {k} | {s['scene_values'][k]:.5g}{unit} | "
-                         f"{s['fitted_values'][k]:.5g}{unit} |")
-    lines += ["", "| scene | position error max, scene values (m) | fitted values (m) |", "|---|---|---|"]
-    for s in scenes:
-        e = s["position_error_max"]
-        lines.append(f"| {s['name']} | {_m(e['scene'])} | {_m(e['calibrated'])} |")
+    lines += markdown(["scene", "MuJoCo mapping", "quantity", "scene file", "fitted (what MuJoCo corresponds to)"],
+                      [[s["name"], s["mapping"], k, *(f"{s[v][k]:.5g}" + (f" {UNITS[k]}" if UNITS[k] else "")
+                                                      for v in ("scene_values", "fitted_values"))]
+                       for s in scenes for k in REVERSE_PARAMETERS]).splitlines()
+    lines += [""]
+    lines += markdown(["scene", "position error max, scene values (m)", "fitted values (m)"],
+                      [[s["name"], _m(s["position_error_max"]["scene"]), _m(s["position_error_max"]["calibrated"])]
+                       for s in scenes]).splitlines()
     lines += ["", "As a scene file's `[contact]` table (custom_sim then follows the MuJoCo twin):", ""]
     for s in scenes:
         v = s["fitted_values"]

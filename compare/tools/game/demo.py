@@ -7,7 +7,7 @@ under the bar. Round 2: D pushes the ball from far out, and a second tap 0.6 m f
 goal line sends it in: the last kick decides, so the referee shows "too close" and does not
 count it. Then Q.
 
-    python -m compare.tools.game.demo            # search again and rewrite demo_goal.json
+    python -m compare tools game-demo            # search again and rewrite demo_goal.json
 """
 from __future__ import annotations
 
@@ -100,7 +100,9 @@ def make_demo(seed: int = DEMO_SEED) -> Recording:
     return Recording.of(game)
 
 
-if __name__ == "__main__":
+def remake_demo(path: Path = DEMO_PATH) -> int:
+    """Search again, write the recording to path and print what it holds; 0."""
     recording = make_demo()
-    recording.save(DEMO_PATH)
-    print(f"{DEMO_PATH}: {len(recording.events)} events, {recording.end_step} steps, {recording.result}")
+    recording.save(path)
+    print(f"{path}: {len(recording.events)} events, {recording.end_step} steps, {recording.result}")
+    return 0

@@ -1,21 +1,9 @@
 """Contact of the ball with the goal frame: the ground's penalty spring-damper, against capsules.
 
-custom_sim knows only the ground y = 0; the game adds this force to the player's and passes
-the sum to `Stepper.advance(1, force=...)`. For a capsule (segment a-b, radius r) and the
-ball (centre p, radius R, velocity v):
-
-    q  = closest point of a-b to p          n = (p - q) / |p - q|    (outward normal)
-    d  = R + r - |p - q|                    touching while d > 0
-    vn = v . n                              (the spin's contact velocity is tangential)
-    Fn = k d + c max(0, -vn)                damping on compression, as the ground (Algorithm 1)
-    F  = Fn n,   torque = (-R n) x F = 0
-
-The force is taken from the state at the start of the step and held over it, which is
-exactly how semi-implicit Euler treats the ground force (v += a h, then p += v h).
-
-The frame is frictionless: at a strike the normal force reaches k d ~ 4 kN, and the tanh
-friction law would need h < 2 m_t / (mu Fn alpha) ~ 1e-6 s to stay stable there; the ball
-keeps its spin through a hit on the bar.
+For a capsule (segment a-b, radius r, m) and the ball (radius R): depth d = R + r - |p - q|,
+q the closest point of a-b; Fn = k d + c max(0, -v . n) (N) along the outward normal n, no
+torque, no friction (a strike's ~4 kN would need a tanh friction step near 1e-6 s). The game
+adds it to the player's force for the next step. Derivation: docs/physics.md#9-the-goal-frame-in-the-game.
 """
 from __future__ import annotations
 

@@ -5,7 +5,7 @@ or an off-screen Agg canvas (`offscreen_view`) for videos and the frame-rate mea
 Blitting: the static picture is rendered once into a background buffer (again after a
 resize, on "draw_event"); each frame restores it and draws only the animated artists.
 
-Run `python -m compare.tools.game.view` to measure the frame rate headless (Agg).
+`python -m compare tools game-fps` measures the frame rate headless (Agg): print_fps below.
 """
 from __future__ import annotations
 
@@ -243,10 +243,12 @@ def measure_fps(seconds: float = 6.0, frame_rate: float = 50.0, seed: int = 0,
             "drawing_ms": 1e3 * drawing / frames, "video_ms": 1e3 * pixels / frames}
 
 
-if __name__ == "__main__":
+def print_fps() -> int:
+    """The frame rate in three cases, one line each; 0."""
     for held, redraw in ((0.2, False), (1.0, False), (0.2, True)):
         r = measure_fps(held_fraction=held, redraw_text=redraw)
         case = "texts re-rendered every frame" if redraw else f"D held {held:.0%} of the time"
         print(f"{case:30s} {r['frames']} frames: {r['fps']:4.0f} fps (physics {r['physics_ms']:.2f} "
               f"+ drawing {r['drawing_ms']:.2f} ms/frame; reading pixels for a video "
               f"{r['video_ms']:.2f} ms more), matplotlib Agg with blitting")
+    return 0

@@ -1,9 +1,10 @@
 """Typical mistakes of a hand-written contact simulator, each an edit of custom_sim's source.
 
 Each mistake is one exact text replacement in one file of custom_sim (every occurrence, so a
-line the force law and its Jacobian share changes in both). `python -m compare.tools.mutation` puts
+line the force law and its Jacobian share changes in both). `python -m compare tools mutation` puts
 each into a copy of custom_sim and runs the default `run` on it: the harness earns trust only
-if every one of them makes `run` exit 1, named by the check that caught it.
+if every one of them makes `run` exit 1, named by the check that caught it. A mistake the
+diagnosis also knows (compare/checks/mistakes.py) has the same name and seed line there.
 """
 from __future__ import annotations
 
@@ -21,19 +22,19 @@ class Mistake:
 
 
 MISTAKES = (
-    Mistake("box_inertia_4x", "box inertia m (w^2 + h^2) / 3, the formula about a corner instead of the centre",
-            "Rigid body model: I = m (w^2 + h^2) / 12", "bodies.py",
+    Mistake("box_inertia_about_corner", "box inertia m (w^2 + h^2) / 3, the formula about a corner instead of the centre",
+            "Rigid body model: I = 1/12 m (w^2 + h^2)", "bodies.py",
             "mass * (w * w + h * h) / 12.0", "mass * (w * w + h * h) / 3.0"),
-    Mistake("box_inertia_one_side", "box inertia m w^2 / 12, the height left out",
-            "Rigid body model: I = m (w^2 + h^2) / 12", "bodies.py",
+    Mistake("box_inertia_width_only", "box inertia m w^2 / 12, the height left out",
+            "Rigid body model: I = 1/12 m (w^2 + h^2)", "bodies.py",
             "mass * (w * w + h * h) / 12.0", "mass * (w * w) / 12.0"),
-    Mistake("disk_inertia_ring", "disk inertia m R^2 (a ring's) instead of m R^2 / 2",
-            "MuJoCo configuration: Iy = 0.5 m R^2", "bodies.py",
+    Mistake("disk_inertia_of_a_ring", "disk inertia m R^2 (a ring's) instead of m R^2 / 2",
+            "MuJoCo configuration / Algorithm 4: disk I = 0.5 m R^2", "bodies.py",
             "0.5 * mass * radius * radius", "mass * radius * radius"),
     Mistake("unit_mass", "the mass left out of F / m: every body moves as if it weighed 1 kg",
             "Algorithm 1, line 7: v <- v + (F / m) dt", "model.py",
             "inv_mass=1.0 / props.mass,", "inv_mass=1.0,"),
-    Mistake("gravity_as_force_g", "gravity added as a force g instead of m g",
+    Mistake("gravity_without_mass", "gravity added as a force g instead of m g",
             "Algorithm 2, line 3: F <- [0, -m g]", "forces.py",
             "fy -= model.g / model.inv_mass", "fy -= model.g"),
     Mistake("friction_on_com_velocity", "friction from the centre of mass's velocity, not the contact point's",
@@ -57,7 +58,7 @@ MISTAKES = (
     Mistake("damping_both_ways_unclamped", "the compression law's damping applied both ways (k d - c v_y, pulling the body down)",
             "Algorithm 1, line 4: Fn <- k d + c max(0, -v_y)", "forces.py",
             "return model.k * d + model.c * max(0.0, -vcy)", "return model.k * d - model.c * vcy"),
-    Mistake("semi_implicit_is_explicit", "semi-implicit Euler that moves the position with the old velocity",
+    Mistake("explicit_euler_in_disguise", "semi-implicit Euler that moves the position with the old velocity",
             "Algorithm 1, lines 7-8: v <- v + (F/m) dt, then p <- p + v dt", "integrators.py",
             "        z[3] += h * ax\n        z[4] += h * ay\n        z[5] += h * aw\n        z[0] += h * z[3]\n        z[1] += h * z[4]\n        z[2] += h * z[5]\n    else:",
             "        z[0] += h * z[3]\n        z[1] += h * z[4]\n        z[2] += h * z[5]\n        z[3] += h * ax\n        z[4] += h * ay\n        z[5] += h * aw\n    else:"),
@@ -67,14 +68,14 @@ MISTAKES = (
     Mistake("implicit_euler_old_positions", "implicit Euler that evaluates the force at the old positions q0",
             "Numerical integration: implicit Euler, v1 = v0 + a(q1, v1) dt", "implicit_residual.py",
             "zi[j] = z0[j] + h * zi[3 + j]", "zi[j] = z0[j]"),
-    Mistake("compound_no_parallel_axis", "compound inertia without the parallel-axis term m |o - com|^2",
-            "Algorithm 3, line 2: inertia about the COM", "bodies.py",
+    Mistake("compound_inertia_without_parallel_axis", "compound inertia without the parallel-axis term m |o - com|^2",
+            "Algorithm 3, line 2: compute total mass, COM offset, inertia about COM", "bodies.py",
             "inertia += box_inertia(p.mass, *p.size) + p.mass * float(rel @ rel)",
             "inertia += box_inertia(p.mass, *p.size)"),
     Mistake("compound_geometric_centre", "the compound's centre of mass taken as the parts' geometric mean",
             "Algorithm 3, line 2: compute total mass, COM offset", "bodies.py",
             "com = masses @ offsets / masses.sum()", "com = offsets.mean(axis=0)"),
-    Mistake("point_contact_height_ignored", "the point mass touches the ground at its centre, not at y < h",
+    Mistake("contact_height_ignored", "the point mass touches the ground at its centre, not at y < h",
             "Algorithm 1, line 3: d <- max(0, h - y)", "bodies.py",
             "pts = np.array([[0.0, -body.contact_height]])", "pts = np.array([[0.0, 0.0]])"),
     Mistake("disk_contact_point_turns", "the disk's contact point turns with the disk instead of staying below the centre",

@@ -1,4 +1,4 @@
-"""What batching and workers buy, measured in one run: `python -m compare.tools.study.benchmark [--out DIR]`.
+"""What batching and workers buy, measured in one run: `python -m compare tools study-bench [--out DIR]`.
 
 1. custom_sim: runs per second of simulate_batch (one compiled call, prange over the runs, 1 and
    2 threads) against custom_sim.simulate called once per run, on the same runs (box_drop with
@@ -15,7 +15,6 @@ only as good as the quiet they were measured in. Writes DIR/benchmark.json (defa
 """
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import os
 import shutil
@@ -144,14 +143,11 @@ def study_times() -> list[dict]:
     return out
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m compare.tools.study.benchmark", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", default="reports/study_benchmark", metavar="DIR")
-    args = parser.parse_args(argv)
+def benchmark(out: str = "reports/study_benchmark") -> int:
+    """Measure, print and write out/benchmark.json; 2 without Dask, else 0."""
     from ...executor import STUDY_EXTRA, dask_available
     if not dask_available():   # its third part runs a study
-        print(f"error: compare.tools.study.benchmark needs Dask: {STUDY_EXTRA}", file=sys.stderr)
+        print(f"error: tools study-bench needs Dask: {STUDY_EXTRA}", file=sys.stderr)
         return 2
     load_before = os.getloadavg()
     result = {"cores": os.cpu_count(), "load_before": load_before,
@@ -160,7 +156,7 @@ def main(argv=None) -> int:
     one = next(s for s in result["study"] if s["workers"] == 1 and s["threads_per_task"] == 1)
     two = next(s for s in result["study"] if s["workers"] == 2)
     result["study_speedup_2_workers"] = one["wall_time"] / two["wall_time"]
-    out = Path(args.out)
+    out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "benchmark.json").write_text(finite_json(result, indent=1))
     print(f"load average before {load_before[0]:.2f}, after {result['load_after'][0]:.2f} on {os.cpu_count()} cores")
@@ -178,7 +174,3 @@ def main(argv=None) -> int:
               f"{s['wall_time']:.2f} s")
     print(f"2 workers against 1: x{result['study_speedup_2_workers']:.2f} (linear: x2)")
     return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

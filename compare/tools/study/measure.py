@@ -1,24 +1,12 @@
 """What a study measures, as pure functions a Dask worker runs: parameters in, table rows out.
 
     reference_states(scene, times, cache)          the converged reference at the sample times
-    measure_batch(points, references, threads, twin) -> rows of study.csv
+    measure_batch(points, references, threads, twin) -> rows of study.csv: stable,
+        position_error_max (m, to the reference every plan.SAMPLE s), twin_position_error_max (m),
+        wall_time (s), force_evals
 
-Per run (units m, s):
-    stable                   custom_sim did not stop the run (SimulationDiverged: blow-up, or
-                             any failure its compiled health check detects), and its energy
-                             did not grow: the sweep's criterion (compare/tools/accuracy/
-                             stability_search.energy_verdict on the samples): every force but
-                             gravity and the contact spring dissipates, so a rise of the energy
-                             read outside hard contact by more than 10 % of the motion's
-                             largest kinetic energy is numerical (a bounded chatter that gains
-                             no energy passes this test: custom_sim's detector is the one for it)
-    position_error_max       max over the samples of |p - p_ref|, the centre-of-mass distance to
-                             the reference (compare/oracle/reference.py: DOP853, every contact
-                             switch an event), read every SAMPLE seconds
-    twin_position_error_max  max over the samples both step sequences share of |p - p_mujoco|,
-                             the MuJoCo twin of the same scene (its [mujoco] settings)
-    wall_time                the compiled stepping of the run alone (s)
-    force_evals              evaluations of the force law (custom_sim's counter)
+`stable` is custom_sim not stopping the run and the sweep's energy criterion
+(stability_search.energy_verdict). Every column: docs/studies.md#what-each-run-measures.
 """
 from __future__ import annotations
 

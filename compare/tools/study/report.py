@@ -1,14 +1,15 @@
 """What `study` writes: DIR/study.csv (and .parquet), DIR/<metric>.png, DIR/index.md."""
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
+from ...table import markdown, number
 from . import maps, table
 
 
-def _fmt(x, spec=".3g") -> str:
-    return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, spec)
+def _num(x, **options) -> str:
+    """3 significant digits, "-" for a value that is missing or not finite."""
+    return number(x, none="-", nonfinite="-", **options)
 
 
 def _value(v) -> str:
@@ -68,13 +69,12 @@ def _index_lines(study, figures, parquet: bool, command: str | None) -> list[str
         lines += ["## Largest stable step: measured against theory", "",
                   "Measured: the largest dt of the grid whose run, and every smaller dt's, was stable "
                   "(so the true limit lies between it and the next dt of the grid). Theory: "
-                  "custom_sim.stability.stable_step for the same scene.", "",
-                  "| integrator | other fields | stable up to (s) | first unstable (s) | theory (s) | measured / theory |",
-                  "|---|---|---|---|---|---|"]
-        for lim in limits:
-            other = ", ".join(f"{k}={_value(v)}" for k, v in lim["values"].items()) or "-"
-            lines.append(f"| {lim['integrator']} | {other} | {_fmt(lim['stable_up_to'])} | "
-                         f"{_fmt(lim['first_unstable'])} | {_fmt(lim['theory'])} | {_fmt(lim['ratio'], '.2f')} |")
+                  "custom_sim.stability.stable_step for the same scene.", ""]
+        rows = [[lim["integrator"], ", ".join(f"{k}={_value(v)}" for k, v in lim["values"].items()) or "-",
+                 *map(_num, (lim["stable_up_to"], lim["first_unstable"], lim["theory"])),
+                 _num(lim["ratio"], decimals=2)] for lim in limits]
+        lines += markdown(["integrator", "other fields", "stable up to (s)", "first unstable (s)", "theory (s)",
+                           "measured / theory"], rows).splitlines()
         lines.append("")
     failed = [r for r in study.rows if r["status"] == "failed"]
     if failed:

@@ -20,7 +20,7 @@ from custom_sim import mass_properties
 from custom_sim.chatter import WATCH_COLUMNS
 from custom_sim.integrators import INTEGRATORS, integrate
 from custom_sim.model import build_model, initial_state
-from custom_sim.simulate import blowup_guard
+from custom_sim.runner import blowup_guard
 from mujoco_models.run import FULL_STATE, setup_rollout
 from tests.conftest import make_scene
 

@@ -16,7 +16,7 @@ from compare.checks.step_check import check_step
 from custom_sim.chatter import WATCH_COLUMNS
 from custom_sim.integrators import INTEGRATORS, NEWTON_TOL, integrate
 from custom_sim.model import build_model, initial_state
-from custom_sim.simulate import blowup_guard
+from custom_sim.runner import blowup_guard
 
 import seed_box
 
@@ -24,7 +24,7 @@ METHODS = tuple(INTEGRATORS)
 # Every scene's first 0.8 s, long enough to reach its contacts (the latest, spinning_box, lands
 # after 0.45 s), counted as WINDOW_STEPS steps of WINDOW_DT; scenes with far smaller steps are
 # cut at MAX_WINDOW_STEPS of their own (stiff_contact then ends before its landing). The full
-# runs are checked by `python -m compare.tools.step_survey` in CI.
+# runs are checked by `python -m compare tools step-survey` in CI.
 WINDOW_STEPS = 8000
 WINDOW_DT = 1e-4           # s
 MAX_WINDOW_STEPS = 60_000

@@ -30,8 +30,8 @@ def test_the_demo_scores_from_at_least_1_m():
     goals = [a for a in game.referee.attempts if a.outcome == GOAL]
     assert game.referee.goals >= 1 and goals
     assert all(a.kick_distance >= game.field.min_kick_distance for a in goals)
-    # what the demo shows; the exact distances follow custom_sim's physics (python -m
-    # compare.tools.game.demo remakes the demo and its saved result after a change there)
+    # what the demo shows; the exact distances follow custom_sim's physics (`python -m compare
+    # tools game-demo` remakes the demo and its saved result after a change there)
     assert game.referee.outcomes == recording.result["outcomes"] == ["goal", "too close"]
 
 

@@ -1,6 +1,6 @@
 """The mutation test's catalogue stays applicable: every mistake is one real edit of custom_sim.
 
-The mutation run itself (`python -m compare.tools.mutation`, a CI step of its own) compiles a copy of
+The mutation run itself (`python -m compare tools mutation`, a CI step of its own) compiles a copy of
 custom_sim per mistake; this fast test only guards that each edit still finds its text, so that
 a change to custom_sim cannot silently turn a mistake into a no-op.
 """
@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from compare.tools.mutation.__main__ import mutated_copy
+from compare.tools.mutation.mutants import mutated_copy
 from compare.tools.mutation.catalogue import MISTAKES
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -29,3 +29,14 @@ def test_each_mistake_changes_custom_sim(mistake, tmp_path):
     changed = (copy / mistake.file).read_text()
     assert changed != original and mistake.new in changed
     compile(changed, mistake.file, "exec")  # still valid Python: the mistake runs, it does not crash
+
+
+def test_a_mistake_both_catalogues_know_has_one_name():
+    """The mutation test and the diagnosis name a shared mistake alike: the same name, the same
+    seed line (a name reused for another mistake would show as another seed line)."""
+    from compare.checks.mistakes import CATALOGUE
+    diagnosed = {m.name: m for m in CATALOGUE}
+    shared = [m for m in MISTAKES if m.name in diagnosed]
+    assert len(shared) >= 9   # the inertias, gravity, friction's slip, rotation, integrator, contact height
+    for m in shared:
+        assert m.seed_line == diagnosed[m.name].seed_line, m.name

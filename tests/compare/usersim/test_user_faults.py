@@ -85,9 +85,8 @@ def test_a_misspelled_integrator_is_bad_input_naming_the_closest(tmp_path, capsy
     code, _, err = run_cli(["run", "point_drop", "--sim", spec, "--out", str(out)], capsys)
     assert code == 2 and "'semi_implicit_euler'" in err and "other:NAME" in err, err
     assert not out.exists()
-    from compare.usersim.validate import main as validate
-    assert validate([str(ROOT / "examples" / "buggy_sim.py") + ":step", "box_drop"]) == 1
-    assert validate([spec, "point_drop"]) == 2
+    assert main(["validate", str(ROOT / "examples" / "buggy_sim.py") + ":step", "box_drop"]) == 1
+    assert main(["validate", spec, "point_drop"]) == 2
 
 
 def test_a_declared_unknown_integrator_is_judged_where_no_integrator_is_needed(tmp_path, short):

@@ -193,7 +193,10 @@ def test_an_unknown_integrator_is_still_compared(tmp_path):
 
 
 def test_validate_command_exit_status(tmp_path, capsys):
-    from compare.usersim.validate import main as validate
+    from compare.cli import main
+
+    def validate(argv):
+        return main(["validate", *argv])
     text = (ROOT / "scenarios" / "box_drop.toml").read_text().replace("duration = 2.0", "duration = 0.3")
     (tmp_path / "short.toml").write_text(text)
     scene = str(tmp_path / "short.toml")

@@ -1,7 +1,7 @@
 """Mutation test of the harness: each typical mistake put into a copy of custom_sim must make
 `python -m compare run` exit 1, and the report must name the check that caught it.
 
-    python -m compare.tools.mutation [NAME ...] [--jobs N] [--out DIR]
+    python -m compare tools mutation [NAME ...] [--jobs N] [--out DIR]   (compare/commands/tools/mutation.py)
 
 Writes DIR/index.md (default reports/mutation) and DIR/mutation.json; exit status 0 when every
 mistake was caught, 1 when one was not. Each mistake costs a numba compile of the copy (its
@@ -9,7 +9,6 @@ sources differ) and one full `run`.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import shutil
@@ -21,6 +20,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from ...report.atomic import finite_json
+from ...table import DASH, markdown
 from .catalogue import MISTAKES, Mistake
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -86,31 +86,27 @@ def index_page(results: list[dict]) -> str:
              f"{caught} of {len(results)} mistakes made `python -m compare run` exit 1.", "",
              "A mistake counts as caught when a judged check fails (or the run is unstable) on at least one "
              "scene; a scenario the harness could not judge (an error row) does not count.", "",
-             "| mistake | where (seed) | exit | caught by | scenes that failed | errors |", "|---|---|---|---|---|---|"]
-    for r in results:
-        errors = "; ".join(f"{k}: {v}" for k, v in r["errors"].items()) or "–"
-        lines.append(f"| **{r['name']}**: {r['what']} | {r['seed_line']} | {r['exit']} "
-                     f"| {', '.join(checks_named(r['by'])) or '**not caught**'} | {', '.join(r['by']) or '–'} | {errors} |")
+             *markdown(["mistake", "where (seed)", "exit", "caught by", "scenes that failed", "errors"],
+                       [[f"**{r['name']}**: {r['what']}", r["seed_line"], str(r["exit"]),
+                         ", ".join(checks_named(r["by"])) or "**not caught**", ", ".join(r["by"]) or DASH,
+                         "; ".join(f"{k}: {v}" for k, v in r["errors"].items()) or DASH]
+                        for r in results]).splitlines()]
     return "\n".join(lines) + "\n"
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m compare.tools.mutation", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("names", nargs="*", metavar="NAME", help="mistakes to try (default: all)")
-    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="mutants run at once")
-    parser.add_argument("--out", default="reports/mutation", metavar="DIR")
-    parser.add_argument("--scenes", nargs="*", default=[], metavar="SCENE", help="scenes to run (default: the built-ins)")
-    args = parser.parse_args(argv)
+def run_all(names: list[str], jobs: int, out: str, scenes: list[str]) -> int:
+    """Try the named mistakes (default: all), `jobs` at once, on the scenes (default: the
+    built-ins); writes out/index.md and out/mutation.json. The exit status: 0 every mistake
+    caught, 1 one not, 2 an unknown name."""
     known = {m.name: m for m in MISTAKES}
-    unknown = [n for n in args.names if n not in known]
+    unknown = [n for n in names if n not in known]
     if unknown:
         print(f"error: unknown mistake {', '.join(unknown)} (expected one of: {', '.join(known)})", file=sys.stderr)
         return 2
-    chosen = [known[n] for n in args.names] or list(MISTAKES)
-    with ThreadPoolExecutor(max(1, args.jobs)) as pool:
-        results = list(pool.map(lambda m: run_mutant(m, args.scenes), chosen))
-    out = Path(args.out)
+    chosen = [known[n] for n in names] or list(MISTAKES)
+    with ThreadPoolExecutor(max(1, jobs)) as pool:
+        results = list(pool.map(lambda m: run_mutant(m, scenes), chosen))
+    out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "mutation.json").write_text(finite_json(results, indent=2) + "\n")
     (out / "index.md").write_text(index_page(results))
@@ -119,7 +115,3 @@ def main(argv=None) -> int:
         print(f"{r['name']:<30} exit {r['exit']}  {verdict}  ({r['seconds']} s)")
     print(f"report: {out / 'index.md'}")
     return 0 if all(r["caught"] for r in results) else 1
-
-
-if __name__ == "__main__":
-    sys.exit(main())
