@@ -38,6 +38,7 @@ from ..store import cached
 from ..oracle.reference import ReferenceError as NoReference
 from .case import as_case
 from .impedance import NativeDiverged, native_run
+from .row import CheckRow
 from .sensitivity import spread
 
 NAME = "contact"
@@ -69,17 +70,13 @@ def converged(scene: Scene, t: np.ndarray) -> np.ndarray:
     return solve_reference(scene, t).states
 
 
-def _row(integrator: str, **values) -> dict:
-    row = {"name": NAME, "isolates": ISOLATES, "integrator": integrator,
-           "position_error_max": None, "angle_error_max": None,
-           "tolerance_position": None, "tolerance_angle": None, "pass": None, "reason": ""}
-    row.update(values)
-    return row
+def _row(integrator: str, reason: str, **values) -> CheckRow:
+    return CheckRow(NAME, ISOLATES, integrator, reason=reason, **values)
 
 
-def not_judged(integrator: str, why: str) -> dict:
+def not_judged(integrator: str, why: str) -> CheckRow:
     """The row of a contact check that could not be judged, and why."""
-    return _row(integrator, reason=f"not judged: {why}")
+    return _row(integrator, f"not judged: {why}")
 
 
 def _motion(states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -94,8 +91,8 @@ def _on_grid(t_from: np.ndarray, states: np.ndarray, t: np.ndarray) -> np.ndarra
 
 
 def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, integrator: str | None = None,
-                  case=None) -> dict:
-    """The contact check's row (CHECKS.md). states_under_test: (steps + 1, 6) states of
+                  case=None) -> CheckRow:
+    """The contact check's row (docs/report-files.md). states_under_test: (steps + 1, 6) states of
     contact_scene(scene) at the scene's dt from the simulator under test; None: custom_sim.
     integrator: the one the simulator under test steps with (default: the scene's); for one the
     harness does not know ("other:NAME"), the integrator term is MuJoCo's own integration error
@@ -108,21 +105,22 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, int
     if known and integrator != bare.integrator:
         bare = dataclasses.replace(bare, integrator=integrator)
     if not bare.has("contact"):
-        return _row(integrator, reason="not judged: the scene has no contact, so there is no contact to isolate")
+        return _row(integrator, "not judged: the scene has no contact, so there is no contact to isolate")
     try:
         under = case.states(bare, bare.integrator, bare.dt) if states_under_test is None \
             else np.asarray(states_under_test, dtype=float)
         # 1. the mapping's force error, read from MuJoCo along the same run
         native, twin, error = cached(native_run)(bare)
     except (SimulationDiverged, NativeDiverged) as exc:
-        return _row(integrator, reason=f"not judged: with friction off the run diverged ({exc})")
+        return _row(integrator, f"not judged: with friction off the run diverged ({exc})")
     if under.ndim != 2 or under.shape[1] != 6 or len(under) < 2:
-        return _row(integrator, reason=f"not judged: the states under test have shape {under.shape}, "
-                                  f"expected (steps + 1, 6)")
+        return _row(integrator, f"not judged: the states under test have shape {under.shape}, "
+                                f"expected (steps + 1, 6)")
     if not np.all(np.isfinite(under)):
         step = int(np.flatnonzero(~np.all(np.isfinite(under), axis=1))[0])
-        return _row(integrator, **{"pass": False}, first_exceeding_time=step * bare.dt,
-                    reason=f"the states under test leave finite numbers at step {step} (t = {step * bare.dt:.6g} s)")
+        return _row(integrator, f"the states under test leave finite numbers at step {step} "
+                                f"(t = {step * bare.dt:.6g} s)",
+                    passed=False, details={"first_exceeding_time": step * bare.dt})
     t_under = np.arange(len(under)) * bare.dt
     t = np.arange(len(native)) * twin.dt
     t = t[t <= t_under[-1] + 1e-12]
@@ -146,10 +144,10 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, int
         else:
             integ_pos = integ_ang = np.zeros(len(t))
     except SimulationDiverged as exc:
-        return _row(integrator, reason=f"not judged: custom_sim's ensemble diverged ({exc})")
+        return _row(integrator, f"not judged: custom_sim's ensemble diverged ({exc})")
     except NoReference as exc:
-        return _row(integrator, reason=f"not judged: {integrator} is an integrator the harness does not know, and the "
-                                  f"converged solution that would stand in for it could not be found ({exc})")
+        return _row(integrator, f"not judged: {integrator} is an integrator the harness does not know, and the "
+                                f"converged solution that would stand in for it could not be found ({exc})")
     s_pos, s_ang = s_pos[:len(t)], s_ang[:len(t)]
 
     d_pos = np.hypot(tested[:, 0] - native[:, 0], tested[:, 1] - native[:, 1])
@@ -182,8 +180,8 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, int
         why = ("the body never touches the ground" if end == len(t) else
                "the motion's sensitivity to the mapping's force error (and the integrator's difference) "
                f"stays above a tenth of the motion after t = {horizon:.4g} s, before any contact")
-        return _row(integrator, position_error_max=float(d_pos.max()), angle_error_max=float(d_ang.max()),
-                    reason=f"not judged: {why}", **extra)
+        return _row(integrator, f"not judged: {why}", position_error_max=float(d_pos.max()),
+                    angle_error_max=float(d_ang.max()), details=extra)
     pos_max, ang_max = float(d_pos[:end].max()), float(d_ang[:end].max())
     tp, ta = float(tol_pos[end - 1]), float(tol_ang[end - 1])
     judge_angle = turns and motion_ang[end - 1] >= ta / MOTION_SHARE
@@ -208,5 +206,5 @@ def check_contact(scene: Scene, states_under_test: np.ndarray | None = None, int
                  f"its tolerance ({ta:.3g} rad)"))
     first = np.flatnonzero(d_pos[:end] > tp)
     extra["first_exceeding_time"] = float(t[first[0]]) if len(first) else None
-    return _row(integrator, position_error_max=pos_max, angle_error_max=ang_max, tolerance_position=tp,
-                tolerance_angle=ta if judge_angle else None, **{"pass": passed}, reason=reason, **extra)
+    return _row(integrator, reason, position_error_max=pos_max, angle_error_max=ang_max, tolerance_position=tp,
+                tolerance_angle=ta if judge_angle else None, passed=passed, details=extra)

@@ -7,7 +7,7 @@ Only the seed's force law is written again, in a passive-force callback. A corre
 under the same integrator and dt then differs from it by round-off alone, so whatever is
 left is a mistake in the inertia, the torque, the contact-point kinematics or the integrator.
 
-    check_dynamics(scene, states, integrator, dt) -> row (CHECKS.md)
+    check_dynamics(scene, states, integrator, dt) -> CheckRow
 
 Tolerance (m, rad), derived:
 
@@ -53,6 +53,7 @@ from scene_types.integrators import MUJOCO_TWIN
 from scene_types.schema import Scene
 
 from ..store import cached
+from .row import CheckRow
 
 NAME = "dynamics"
 ISOLATES = ("inertia, torque, contact-point kinematics and the integrator: MuJoCo integrates "
@@ -69,38 +70,33 @@ MOTION_SHARE = 0.1                 # no judged tolerance above a tenth of the mo
 FRICTION_STABILITY = 2.0           # explicit step of a decaying rate lambda: stable for h lambda < 2
 
 
-def check_dynamics(scene: Scene, states, integrator: str, dt: float, rounding=None) -> dict:
+def check_dynamics(scene: Scene, states, integrator: str, dt: float, rounding=None) -> CheckRow:
     """The `dynamics` row for `states` (steps + 1, 6), a run of `scene` with `integrator` and
-    `dt` by the simulator under test (CHECKS.md). rounding: how the states were written to a
+    `dt` by the simulator under test (docs/report-files.md). rounding: how the states were written to a
     file (one_step.Rounding), None for full double precision: its half unit of each value is
     added to the tolerance."""
-    row = {"name": NAME, "isolates": ISOLATES, "integrator": integrator,
-           "position_error_max": None, "angle_error_max": None,
-           "tolerance_position": None, "tolerance_angle": None, "pass": None}
+    details = {}
     if integrator not in MUJOCO_TWIN:
-        row["reason"] = (f"not judged: MuJoCo has no {integrator.replace('_', ' ')} (its implicit "
-                         f"integrators leave passive forces out of their derivatives); check step "
-                         f"judges this integrator")
-        return row
+        return _row(integrator, details, f"not judged: MuJoCo has no {integrator.replace('_', ' ')} (its implicit "
+                                         f"integrators leave passive forces out of their derivatives); check step "
+                                         f"judges this integrator")
     states = np.asarray(states, dtype=float)
     from mujoco_models import MujocoDiverged, simulate_dynamics
 
     run = dataclasses.replace(scene, integrator=integrator, dt=float(dt))
     if states.ndim != 2 or states.shape != (run.steps + 1, 6):
-        row["reason"] = (f"not judged: the trajectory has shape {states.shape}, expected "
-                         f"({run.steps + 1}, 6) for {run.steps} steps of dt = {dt:g} s")
-        return row
+        return _row(integrator, details, f"not judged: the trajectory has shape {states.shape}, expected "
+                                         f"({run.steps + 1}, 6) for {run.steps} steps of dt = {dt:g} s")
     bad = ~np.all(np.isfinite(states), axis=1)
     if bad.any():
         i = int(np.argmax(bad))
-        row.update({"pass": False, "first_step_over": i, "time_first_over": i * float(dt),
-                    "reason": f"the trajectory under test is not finite from step {i} (t = {i * dt:.6g} s)"})
-        return row
+        details.update(first_step_over=i, time_first_over=i * float(dt))
+        return _row(integrator, details, f"the trajectory under test is not finite from step {i} (t = {i * dt:.6g} s)",
+                    passed=False)
     try:
         twin = cached(simulate_dynamics)(run, MUJOCO_TWIN[integrator], dt).states()
     except MujocoDiverged as exc:
-        row["reason"] = f"not judged: the dynamics twin diverged ({exc})"
-        return row
+        return _row(integrator, details, f"not judged: the dynamics twin diverged ({exc})")
     pos = np.hypot(states[:, 0] - twin[:, 0], states[:, 1] - twin[:, 1])
     ang = np.abs(states[:, 2] - twin[:, 2])
     tol_pos, tol_ang = roundoff_tolerance(twin, run.steps)
@@ -108,20 +104,20 @@ def check_dynamics(scene: Scene, states, integrator: str, dt: float, rounding=No
         half = rounding.half_unit(states)
         tol_pos += float(np.hypot(half[:, 0], half[:, 1]).max())
         tol_ang += float(half[:, 2].max())
-        row["rounding"] = rounding.describe()
+        details["rounding"] = rounding.describe()
     motion_pos, motion_ang = motion(twin)
     # an angle that turns by less than its tolerance / MOTION_SHARE is shown, not judged: its
     # difference neither fails the check nor calls for the sensitivity runs
     judge_angle = tol_ang <= MOTION_SHARE * motion_ang[-1]
-    row.update(position_error_max=float(pos.max()), angle_error_max=float(ang.max()),
-               roundoff_position=tol_pos, roundoff_angle=tol_ang,
-               mujoco_integrator=MUJOCO_TWIN[integrator],
-               friction_step_number_max=friction_step_number(run, twin))
+    pos_max, ang_max = float(pos.max()), float(ang.max())
+    details.update(roundoff_position=tol_pos, roundoff_angle=tol_ang,
+                   mujoco_integrator=MUJOCO_TWIN[integrator],
+                   friction_step_number_max=friction_step_number(run, twin))
     bound, judged = "round-off", len(pos)
     if pos.max() > tol_pos or (judge_angle and ang.max() > tol_ang):
         spread = sensitivity(run, MUJOCO_TWIN[integrator], dt, twin)
         if spread is None:
-            row["sensitivity_position"] = None
+            details["sensitivity_position"] = None
         else:
             grow_pos = SENSITIVITY_SAFETY * np.maximum.accumulate(spread[0])
             grow_ang = SENSITIVITY_SAFETY * np.maximum.accumulate(spread[1])
@@ -130,30 +126,36 @@ def check_dynamics(scene: Scene, states, integrator: str, dt: float, rounding=No
             tol_pos = max(tol_pos, float(grow_pos[judged - 1]))
             tol_ang = max(tol_ang, float(grow_ang[judged - 1]))
             bound = "sensitivity"
-            row.update(sensitivity_position=float(spread[0][:judged].max()),
-                       sensitivity_angle=float(spread[1][:judged].max()),
-                       position_error_max_whole_run=float(pos.max()),
-                       angle_error_max_whole_run=float(ang.max()))
-            row.update(position_error_max=float(pos[:judged].max()), angle_error_max=float(ang[:judged].max()))
+            details.update(sensitivity_position=float(spread[0][:judged].max()),
+                           sensitivity_angle=float(spread[1][:judged].max()),
+                           position_error_max_whole_run=float(pos.max()),
+                           angle_error_max_whole_run=float(ang.max()))
+            pos_max, ang_max = float(pos[:judged].max()), float(ang[:judged].max())
     # the rule, over the judged window [0, judged - 1] (tolerances only grow and the window
     # only shrinks with the sensitivity bound, so an angle not judged above stays so)
     judge_position = tol_pos <= MOTION_SHARE * motion_pos[judged - 1]
     judge_angle = judge_position and tol_ang <= MOTION_SHARE * motion_ang[judged - 1]
-    row.update(motion_position=float(motion_pos[judged - 1]), motion_angle=float(motion_ang[judged - 1]),
-               judged_steps=judged - 1, judged_until=(judged - 1) * float(dt), bound=bound)
+    details.update(motion_position=float(motion_pos[judged - 1]), motion_angle=float(motion_ang[judged - 1]),
+                   judged_steps=judged - 1, judged_until=(judged - 1) * float(dt), bound=bound)
     if not judge_position:
-        row["reason"] = (f"not judged: the tolerance {tol_pos:.3g} m exceeds {MOTION_SHARE:g} of the motion "
-                         f"it would judge ({row['motion_position']:.3g} m up to t = {row['judged_until']:.6g} s)")
-        return row
+        return _row(integrator, details, f"not judged: the tolerance {tol_pos:.3g} m exceeds {MOTION_SHARE:g} of the "
+                                         f"motion it would judge ({details['motion_position']:.3g} m up to "
+                                         f"t = {details['judged_until']:.6g} s)",
+                    position_error_max=pos_max, angle_error_max=ang_max)
     over = (pos[:judged] > tol_pos) | ((ang[:judged] > tol_ang) if judge_angle else False)
     passed = not over.any()
-    row.update(tolerance_position=tol_pos, tolerance_angle=tol_ang if judge_angle else None,
-               tolerance_angle_shown=None if judge_angle else tol_ang, **{"pass": passed})
+    details["tolerance_angle_shown"] = None if judge_angle else tol_ang
     if not passed:
         i = int(np.argmax(over))
-        row.update(first_step_over=i, time_first_over=i * float(dt))
-    row["reason"] = _reason(row, run.steps)
-    return row
+        details.update(first_step_over=i, time_first_over=i * float(dt))
+    return _row(integrator, details, _reason(details, judge_angle, passed, run.steps), position_error_max=pos_max,
+                angle_error_max=ang_max, tolerance_position=tol_pos, tolerance_angle=tol_ang if judge_angle else None,
+                passed=passed)
+
+
+def _row(integrator: str, details: dict, reason: str, **values) -> CheckRow:
+    """A dynamics row: its reason follows every detail."""
+    return CheckRow(NAME, ISOLATES, integrator, reason=reason, details=details, reason_at=len(details), **values)
 
 
 def roundoff_tolerance(states: np.ndarray, steps: int) -> tuple[float, float]:
@@ -245,30 +247,31 @@ def friction_slope(ct, v):
     return 1.0, np.where(v == 0.0, np.inf, 0.0)
 
 
-def _reason(row: dict, steps: int) -> str:
-    fr = row["friction_step_number_max"]
+def _reason(details: dict, judge_angle: bool, passed: bool, steps: int) -> str:
+    fr = details["friction_step_number_max"]
     base = (f"round-off of two correct codes, at most {ROUNDOFF_PER_STEP:.2g} relative per step over "
             f"{steps} steps (floor {ROUNDOFF_FLOOR_POSITION:g} m, {ROUNDOFF_FLOOR_ANGLE:g} rad)")
-    if row.get("rounding"):
-        base += f"; plus the file's rounding at {row['rounding']}"
-    if row["bound"] == "sensitivity":
+    if details.get("rounding"):
+        base += f"; plus the file's rounding at {details['rounding']}"
+    if details["bound"] == "sensitivity":
         base += (f"; this motion amplifies round-off: twin runs with the force law scaled by 1 +- "
-                 f"{SENSITIVITY_PERTURBATION:.2g} part by {row['sensitivity_position']:.3g} m and "
-                 f"{row['sensitivity_angle']:.3g} rad, and the tolerance is {SENSITIVITY_SAFETY:g} times that")
-        if row["judged_steps"] < steps:
-            base += (f", judged up to t = {row['judged_until']:.6g} s, where it would pass "
+                 f"{SENSITIVITY_PERTURBATION:.2g} part by {details['sensitivity_position']:.3g} m and "
+                 f"{details['sensitivity_angle']:.3g} rad, and the tolerance is {SENSITIVITY_SAFETY:g} times that")
+        if details["judged_steps"] < steps:
+            base += (f", judged up to t = {details['judged_until']:.6g} s, where it would pass "
                      f"{HORIZON_POSITION:g} m or {HORIZON_ANGLE:g} rad (past it the motion has forgotten "
                      f"its round-off)")
         if fr > FRICTION_STABILITY:
             base += (f"; the friction update is unstable at this step: h mu alpha Fn' / m_t reaches "
                      f"{fr:.3g} > {FRICTION_STABILITY:g}")
-    elif "sensitivity_position" in row:
+    elif "sensitivity_position" in details:
         base += "; the amplification could not be measured (a perturbed twin run diverged)"
-    if row["tolerance_angle"] is None:
-        base += (f"; the angle is shown, not judged: it turns by {row['motion_angle']:.3g} rad in the judged "
-                 f"window, less than {1 / MOTION_SHARE:g} times its tolerance {row['tolerance_angle_shown']:.3g} rad")
-    if row["pass"] is False:
-        base += (f"; first over at step {row['first_step_over']} (t = {row['time_first_over']:.6g} s): "
+    if not judge_angle:
+        base += (f"; the angle is shown, not judged: it turns by {details['motion_angle']:.3g} rad in the judged "
+                 f"window, less than {1 / MOTION_SHARE:g} times its tolerance "
+                 f"{details['tolerance_angle_shown']:.3g} rad")
+    if not passed:
+        base += (f"; first over at step {details['first_step_over']} (t = {details['time_first_over']:.6g} s): "
                  f"a mistake in the inertia, mass, torque, contact points or the integrator")
     return base
 
@@ -294,12 +297,13 @@ def print_survey(names: list[str]) -> int:
                 begin = time.perf_counter()
                 run = dataclasses.replace(scene, integrator=integrator)
                 row = check_dynamics(run, simulate(run).states(), integrator, run.dt)
-                failed += row["pass"] is False
+                failed += row.passed is False
+                d = row.details
                 yield [scene.name, integrator, str(run.steps),
-                       *(number(row.get(k), none="-") for k in ("position_error_max", "angle_error_max",
-                                                                 "tolerance_position", "tolerance_angle")),
-                       str(row.get("bound")), number(row.get("judged_until"), none="-"),
-                       f"{row.get('friction_step_number_max', 0.0):.3g}", str(row["pass"]),
+                       *(number(v, none="-") for v in (row.position_error_max, row.angle_error_max,
+                                                       row.tolerance_position, row.tolerance_angle)),
+                       str(d.get("bound")), number(d.get("judged_until"), none="-"),
+                       f"{d.get('friction_step_number_max', 0.0):.3g}", str(row.passed),
                        f"{time.perf_counter() - begin:.1f}"]
     stream(["scene", "integrator", "steps", "position (m)", "angle (rad)", "tolerance (m)", "tolerance (rad)",
             "bound", "judged to (s)", "friction h lambda", "pass", "s"], rows())

@@ -23,6 +23,7 @@ from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
 from .case import as_case
 from ..oracle.one_step import Rounding
+from .row import CheckRow
 
 # A file whose rounding moves the body's points by more than this fraction of the motion's size
 # (the larger of the body's extent and the distance its centre travels) leaves nothing to judge:
@@ -33,17 +34,13 @@ ISOLATES = ("the whole implementation at once: same model, integrator and dt as 
             "so anything beyond round-off is a difference of model or code")
 
 
-def _row(**kw) -> dict:
-    row = {"name": "identical", "isolates": ISOLATES, "integrator": None,
-           "position_error_max": None, "angle_error_max": None,
-           "tolerance_position": None, "tolerance_angle": None, "pass": None, "reason": ""}
-    row.update(kw)
-    return row
+def _row(integrator: str | None, reason: str, **values) -> CheckRow:
+    return CheckRow("identical", ISOLATES, integrator, reason=reason, **values)
 
 
 def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt: float,
-                    rounding: Rounding | int | None | str = "auto", case=None) -> dict:
-    """The check row (CHECKS.md) for states (steps + 1, 6) of the simulator under test, which
+                    rounding: Rounding | int | None | str = "auto", case=None) -> CheckRow:
+    """The check row for states (steps + 1, 6) of the simulator under test, which
     names `integrator` and steps by dt (s). rounding: how the states were written (a CSV's
     Rounding, from its text), None for full double precision, an int for that many
     significant digits, "auto": read off the numbers alone (csv_files.rounding_of_values).
@@ -55,23 +52,20 @@ def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt
     elif isinstance(rounding, (int, np.integer)) and not isinstance(rounding, bool):
         rounding = Rounding("significant", int(rounding))
     if integrator not in INTEGRATORS:
-        return _row(integrator=integrator,
-                    reason=f"not judged: integrator {integrator!r} is not one custom_sim has "
-                           f"({', '.join(INTEGRATORS)}); the reference, dynamics and contact checks still apply")
+        return _row(integrator, f"not judged: integrator {integrator!r} is not one custom_sim has "
+                                f"({', '.join(INTEGRATORS)}); the reference, dynamics and contact checks still apply")
     if not np.isclose(dt, scene.dt, rtol=1e-12, atol=0.0):
-        return _row(integrator=integrator,
-                    reason=f"not judged: dt = {dt:g} s differs from the scene's {scene.dt:g} s")
+        return _row(integrator, f"not judged: dt = {dt:g} s differs from the scene's {scene.dt:g} s")
     case = as_case(scene, case)
     try:
         ours = case.trajectory(integrator).states()
         envelope = case.envelope(integrator)
     except SimulationDiverged as exc:
-        return _row(integrator=integrator, reason=f"not judged: custom_sim diverges here ({exc})")
+        return _row(integrator, f"not judged: custom_sim diverges here ({exc})")
     if states.shape != ours.shape:
-        return _row(integrator=integrator,
-                    reason=f"not judged: {states.shape[0]} states against custom_sim's {ours.shape[0]}")
+        return _row(integrator, f"not judged: {states.shape[0]} states against custom_sim's {ours.shape[0]}")
     if envelope.horizon <= 1:
-        return _row(integrator=integrator, reason="not judged: " + envelope.reason)
+        return _row(integrator, "not judged: " + envelope.reason)
     rows = slice(0, envelope.horizon)   # up to the divergence horizon
     states, ours = states[rows], ours[rows]
     diff = states - ours
@@ -94,8 +88,7 @@ def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt
         # beyond the tolerance is a failure whatever the rounding; a pass it swamps is no verdict
         within = not np.any((dpos > tol_p) | (dang > tol_a))
         if within and moved > ROUNDING_JUDGE_FRACTION * envelope.motion_size:
-            return _row(integrator=integrator,
-                        position_error_max=float(dpos.max()), angle_error_max=float(dang.max()),
+            return _row(integrator, position_error_max=float(dpos.max()), angle_error_max=float(dang.max()),
                         reason=f"not judged: the file's rounding at {rounding.describe()} moves the body's "
                                f"points by up to {moved:.2g} m, more than {ROUNDING_JUDGE_FRACTION:g} of the "
                                f"motion's size {envelope.motion_size:.3g} m, so a mistake could hide in it; "
@@ -107,14 +100,12 @@ def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt
         names = ("x", "y", "theta", "vx", "vy", "omega")
         comp = names[int(np.argmax(np.abs(diff[first]) / np.maximum(np.abs(ours).max(axis=0), 1e-300)))]
     return _row(
-        integrator=integrator,
+        integrator, envelope.reason + said,
         position_error_max=float(dpos.max()), angle_error_max=float(dang.max()),
-        tolerance_position=float(tol_p.max()), tolerance_angle=float(tol_a.max()),
-        **{"pass": first is None},
-        reason=envelope.reason + said,
-        first_step_over=first, time_first_over=None if first is None else first * scene.dt,
-        component_first_over=comp,
-        judged_until=(len(states) - 1) * scene.dt, judged_whole_run=envelope.horizon == len(envelope.position_t),
-        roundoff_ensemble_position=envelope.ensemble_position,
-        roundoff_initial_ulp_position=envelope.initial_position,
+        tolerance_position=float(tol_p.max()), tolerance_angle=float(tol_a.max()), passed=first is None,
+        details={"first_step_over": first, "time_first_over": None if first is None else first * scene.dt,
+                 "component_first_over": comp, "judged_until": (len(states) - 1) * scene.dt,
+                 "judged_whole_run": envelope.horizon == len(envelope.position_t),
+                 "roundoff_ensemble_position": envelope.ensemble_position,
+                 "roundoff_initial_ulp_position": envelope.initial_position},
     )

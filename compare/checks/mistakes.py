@@ -33,7 +33,8 @@ from compare.oracle.force_law import SEED_LAW, Law, arms, contact_state, normal_
 from compare.oracle.reference import Equations
 
 from ..oracle.one_step import METHODS, one_step
-from .step_check import COMPONENTS, check_step, phase, split_arrays, step_residuals
+from .row import CheckRow
+from .step_check import COMPONENTS, check_step, phase, step_residuals
 
 # Steps of a failing trajectory a variant is screened on before the whole trajectory is
 # stepped with it: the correct step's first failures (where a mistake shows) and a spread.
@@ -321,9 +322,8 @@ def force_difference(eq: Equations, z0, dz, dt: float) -> dict:
     return out
 
 
-def _split_nonfinite(states, row):
-    """(the finite states, the step into the first non-finite state as (z0, z1) or None)."""
-    bad = row.get("nonfinite_step")
+def _split_nonfinite(states, bad: int | None):
+    """(the finite states before state `bad`, the step into it as (z0, z1) or None)."""
     if bad is None:
         return states, None
     return states[:bad], (states[bad - 1], states[bad])
@@ -365,8 +365,7 @@ def explains_trajectory(name: str, scene, states, integrator: str, dt: float,
     steps_off of steps, first_step, ratio_max), nothing screened."""
     states = np.asarray(states, dtype=float)
     bad = np.flatnonzero(~np.all(np.isfinite(states), axis=1))
-    row = {"nonfinite_step": int(bad[0])} if bad.size and bad[0] > 0 else {}
-    states, tail = _split_nonfinite(states, row)
+    states, tail = _split_nonfinite(states, int(bad[0]) if bad.size and bad[0] > 0 else None)
     return _explains(candidate(name), scene, states, integrator, dt, (), input_rtol, tail)
 
 
@@ -386,7 +385,7 @@ def not_named_text(near: list[dict], where: str = "", most: int = 3) -> str:
 def diagnose(scene, states, integrator: str, dt: float, input_rtol: float = 0.0) -> dict:
     """Which catalogued mistake (or pair) explains a trajectory that fails check `step`.
 
-    Returns {"step": the step row (JSON-safe), "explained_by": [names], "mistakes": [per
+    Returns {"step": the step CheckRow, "explained_by": [names], "mistakes": [per
     variant tried: name, seed_line, description, explains, steps_off, steps, first_step,
     ratio_max], "not_named": [the variants that explain all steps but steps_off],
     "force": the first failing step's velocity residual as a force (force_difference), or
@@ -394,17 +393,17 @@ def diagnose(scene, states, integrator: str, dt: float, input_rtol: float = 0.0)
     step, the step into a non-finite state included. Variants are tried one at a time; pairs
     only when no single one explains."""
     states = np.asarray(states, dtype=float)
-    row, _ = split_arrays(check_step(scene, states, integrator, dt, input_rtol=input_rtol))
+    row = check_step(scene, states, integrator, dt, input_rtol=input_rtol)
     out = {"step": row, "explained_by": [], "mistakes": [], "not_named": [], "force": None}
-    if row["pass"] is None:
-        out["verdict"] = f"not diagnosed: {row['reason']}"
+    if row.passed is None:
+        out["verdict"] = f"not diagnosed: {row.reason}"
         return out
-    if row["pass"]:
+    if row.passed:
         out["verdict"] = "every step agrees with the reference step to round-off: no mistake to explain"
         return out
-    states, tail = _split_nonfinite(states, row)
+    states, tail = _split_nonfinite(states, row.details.get("nonfinite_step"))
     if states.shape[0] < 2:
-        out["verdict"] = f"not diagnosed: {row['reason']}"
+        out["verdict"] = f"not diagnosed: {row.reason}"
         return out
     eq = Equations.from_scene(scene)
     res = step_residuals(eq, states, integrator, dt, input_rtol=input_rtol)
@@ -445,15 +444,16 @@ def _seed_lines(names):
     return "; ".join(lines)
 
 
-def _verdict(row, found, near=()) -> str:
-    if row.get("first_step") is None:
-        where = f"state {row['nonfinite_step']} is not finite (every step before it within round-off)"
+def _verdict(row: CheckRow, found, near=()) -> str:
+    d = row.details
+    if d.get("first_step") is None:
+        where = f"state {d['nonfinite_step']} is not finite (every step before it within round-off)"
     else:
-        where = (f"first step over round-off: {row['first_step']} (t = {row['first_time']:.6g} s), "
-                 f"{row['phase']}, component {row['component']}")
+        where = (f"first step over round-off: {d['first_step']} (t = {d['first_time']:.6g} s), "
+                 f"{d['phase']}, component {d['component']}")
     if not found:
         text = (f"{where}; no catalogued mistake (nor pair) explains it to round-off: largest "
-                f"residual {row['position_error_max']:.3g} m, {row['angle_error_max']:.3g} rad")
+                f"residual {row.position_error_max:.3g} m, {row.angle_error_max:.3g} rad")
         return text + (f"; {not_named_text(near)}" if near else "")
     if len(found) == 1:
         return f"{where}; explained by {_seed_lines(found)}"

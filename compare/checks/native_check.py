@@ -17,13 +17,15 @@ from __future__ import annotations
 
 from custom_sim import Scene
 
+from .row import CheckRow
+
 ISOLATES = "MuJoCo's own contact with every effect on (the scene's solref mapping)"
 NOT_JUDGED = ("not judged: with every effect on the two differ by named models (friction law, "
               "contact point, damping law, mapping), each measured in the attribution; the judged "
               "comparison is check `contact` (friction off)")
 
 
-def native_row(scene: Scene, metrics: dict) -> dict:
+def native_row(scene: Scene, metrics: dict) -> CheckRow:
     """The check row of the full comparison (metrics of the scene's own mapping)."""
     own = scene.tolerance
     judged = own.position is not None or own.angle is not None
@@ -31,8 +33,8 @@ def native_row(scene: Scene, metrics: dict) -> dict:
     if judged:
         passed = ((own.position is None or metrics["position_error_max"] <= own.position)
                   and (own.angle is None or metrics["angle_error_max"] <= own.angle))
-    return {"name": "native", "isolates": ISOLATES, "integrator": None,
-            "position_error_max": metrics["position_error_max"], "angle_error_max": metrics["angle_error_max"],
-            "tolerance_position": own.position, "tolerance_angle": own.angle, "pass": passed,
-            "reason": f"set in the scene file: {own.reason or 'no reason given'}" if judged else NOT_JUDGED,
-            "mapping": scene.mujoco.solref}
+    return CheckRow("native", ISOLATES, position_error_max=metrics["position_error_max"],
+                    angle_error_max=metrics["angle_error_max"], tolerance_position=own.position,
+                    tolerance_angle=own.angle, passed=passed,
+                    reason=f"set in the scene file: {own.reason or 'no reason given'}" if judged else NOT_JUDGED,
+                    details={"mapping": scene.mujoco.solref})

@@ -1,6 +1,6 @@
 """One scenario: run the simulator under test, judge every check, measure every difference.
 
-The checks (one row each, see CHECK_KEYS; every check module is compare/checks/*_check.py):
+The checks (one CheckRow each, row.py; every check module is compare/checks/*_check.py):
 
     step        each integrator's trajectory, step by step, against one step of the same
                 integrator with an independent right-hand side          (all four integrators)
@@ -16,6 +16,7 @@ The scenario passes when every judged check passes.
 """
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from dataclasses import dataclass, field
 
@@ -28,6 +29,7 @@ from scene_types.schema import SOLREF_MAPPINGS
 from . import events, metrics
 from .case import Case
 from .native_check import native_row
+from .row import CheckRow
 
 CUSTOM = "custom_sim"
 SHOWN = ("reference", "native")    # checks that are shown, not judged, by design
@@ -46,7 +48,7 @@ class Result:
     mujoco: Trajectory | None = None                  # native twin, the scene's own mapping
     by_mapping: dict = field(default_factory=dict)    # mapping -> metrics (and drift)
     metrics: dict = field(default_factory=dict)       # under test against the native twin
-    checks: list = field(default_factory=list)        # check rows (CHECK_KEYS)
+    checks: list[CheckRow] = field(default_factory=list)   # one row per check
     attribution: list = field(default_factory=list)   # the measured ladder of causes
     residuals: dict = field(default_factory=dict)     # per-step residuals of the step checks (plots)
     reference: np.ndarray | None = None               # converged reference states (steps + 1, 6), for the plots
@@ -61,12 +63,12 @@ class Result:
     balances: dict = field(default_factory=dict)      # simulator -> compare.energy.Balance (E, W, R)
 
     @property
-    def judged(self) -> list[dict]:
-        return [c for c in self.checks if c["pass"] is not None]
+    def judged(self) -> list[CheckRow]:
+        return [c for c in self.checks if c.passed is not None]
 
     @property
-    def failed(self) -> list[dict]:
-        return [c for c in self.checks if c["pass"] is False]
+    def failed(self) -> list[CheckRow]:
+        return [c for c in self.checks if c.passed is False]
 
     @property
     def passed(self) -> bool:
@@ -74,8 +76,8 @@ class Result:
         return self.error is None and not self.failed and bool(self.judged)
 
     @property
-    def not_judged(self) -> list[dict]:
-        return [c for c in self.checks if c["pass"] is None and c["name"] not in SHOWN]
+    def not_judged(self) -> list[CheckRow]:
+        return [c for c in self.checks if c.passed is None and c.name not in SHOWN]
 
     @property
     def status(self) -> str:
@@ -84,11 +86,6 @@ class Result:
         if not self.judged:
             return "not judged"
         return "pass" if self.passed else "FAIL"
-
-
-def check_label(check: dict) -> str:
-    """`dynamics (rk4)`: the check's name with its integrator."""
-    return f"{check['name']} ({check['integrator']})" if check.get("integrator") else check["name"]
 
 
 def custom_runs(case: Case) -> dict:
@@ -103,10 +100,8 @@ def custom_runs(case: Case) -> dict:
     return runs
 
 
-def unstable_row(name: str, integrator: str, why: str) -> dict:
-    return {"name": name, "isolates": "", "integrator": integrator, "position_error_max": None,
-            "angle_error_max": None, "tolerance_position": None, "tolerance_angle": None, "pass": None,
-            "reason": f"not judged: {integrator} is unstable at this step ({why})"}
+def unstable_row(name: str, integrator: str, why: str) -> CheckRow:
+    return CheckRow(name, "", integrator, reason=f"not judged: {integrator} is unstable at this step ({why})")
 
 
 def run_scenario(scene: Scene, simulator=None) -> Result:
@@ -174,16 +169,17 @@ def runs_under_test(result: Result, case: Case, simulator) -> dict:
     return {result.under_test.integrator: result.under_test}
 
 
-def identical_row(case: Case, run: Trajectory) -> dict:
+def identical_row(case: Case, run: Trajectory) -> CheckRow:
     """Check identical: the user's run against custom_sim's, same integrator and dt."""
     from .identical_check import check_identical
     scene = case.scene
     return check_identical(scene, run.states(), run.integrator, scene.dt, run.meta.get("rounding"), case=case)
 
 
-def step_rows(result: Result, case: Case, tested: dict) -> list[dict]:
-    """Check step, for each run under test (its per-step residuals kept for the plots)."""
-    from .step_check import check_step, split_arrays
+def step_rows(result: Result, case: Case, tested: dict) -> list[CheckRow]:
+    """Check step, for each run under test (its per-step position residuals kept for the plots,
+    in result.residuals, not in the row)."""
+    from .step_check import check_step
 
     scene, rows = case.scene, []
     for name, run in tested.items():
@@ -191,15 +187,15 @@ def step_rows(result: Result, case: Case, tested: dict) -> list[dict]:
             rows.append(unstable_row("step", name, run))
             continue
         # states read from a text file carry their rounding (fixed decimals or significant digits)
-        row, arrays = split_arrays(check_step(scene, run.states(), name, scene.dt, rounding=run.meta.get("rounding"),
-                                              equations=case.equations))
-        r = arrays.get("residual")
+        row = check_step(scene, run.states(), name, scene.dt, rounding=run.meta.get("rounding"),
+                         equations=case.equations)
+        r = row.residual
         result.residuals[name] = None if r is None else np.hypot(r[:, 0], r[:, 1])
-        rows.append(row)
+        rows.append(dataclasses.replace(row, residual=None))
     return rows
 
 
-def dynamics_rows(scene: Scene, tested: dict, user_run: Trajectory | None) -> list[dict]:
+def dynamics_rows(scene: Scene, tested: dict, user_run: Trajectory | None) -> list[CheckRow]:
     """Check dynamics, for each run under test whose integrator MuJoCo has; an integrator the
     harness does not know is shown beside MuJoCo's RK4."""
     from .dynamics_check import check_dynamics
@@ -284,7 +280,7 @@ def reference_balance(case: Case):
                    "reference's tolerance)", "reference", np.zeros(6))
 
 
-def energy_column_rows(result: Result) -> list[dict]:
+def energy_column_rows(result: Result) -> list[CheckRow]:
     """Check energy: where the simulator under test reports its own energy (custom_sim; a
     user's 7th column or `energy` column), that it is the energy of its states."""
     from ..energy.column import energy_column_check
@@ -293,27 +289,25 @@ def energy_column_rows(result: Result) -> list[dict]:
     if tested is not result.custom and tested.meta.get("energy_source") != "user":
         return []
     verdict = energy_column_check(result.scene, tested.states(), tested.energy)
-    return [{"name": "energy", "isolates": "the simulator's own energy column against the energy of its states "
-                                           "(kinetic + m g y + sum k d^2 / 2)",
-             "integrator": None, "position_error_max": None, "angle_error_max": None,
-             "tolerance_position": None, "tolerance_angle": None, "pass": verdict.agrees,
-             "energy_difference_max": verdict.difference_max, "energy_tolerance_max": verdict.tolerance_max,
-             "reason": verdict.text}]
+    details = {"energy_difference_max": verdict.difference_max, "energy_tolerance_max": verdict.tolerance_max}
+    return [CheckRow("energy", "the simulator's own energy column against the energy of its states "
+                               "(kinetic + m g y + sum k d^2 / 2)",
+                     passed=verdict.agrees, reason=verdict.text, details=details, reason_at=len(details))]
 
 
-def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> dict:
+def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> CheckRow:
     """An integrator the harness does not know, beside MuJoCo's RK4 under the same contact law
     at the same step: shown, not judged (no round-off bound holds between two methods)."""
     from .dynamics_check import check_dynamics
 
     row = check_dynamics(scene, run.states(), "rk4", scene.dt, run.meta.get("rounding"))
-    row.update({"integrator": run.integrator, "tolerance_position": None, "tolerance_angle": None, "pass": None,
-                "reason": f"shown, not judged: {run.integrator!r} is not an integrator the harness knows, so it "
-                          "is shown beside MuJoCo's RK4 under the same contact law at the same step"})
-    return row
+    return dataclasses.replace(
+        row, integrator=run.integrator, tolerance_position=None, tolerance_angle=None, passed=None,
+        reason=f"shown, not judged: {run.integrator!r} is not an integrator the harness knows, so it "
+               "is shown beside MuJoCo's RK4 under the same contact law at the same step")
 
 
-def contact_row(case: Case, simulator, integrator: str | None = None) -> dict:
+def contact_row(case: Case, simulator, integrator: str | None = None) -> CheckRow:
     """Check contact: the simulator under test on the scene with friction off (and the linear
     law MuJoCo has), against MuJoCo's own contact. A user's simulator is run again on that
     variant, which the harness made up: where it cannot run it (precomputed trajectories) or
@@ -345,7 +339,8 @@ def contact_row(case: Case, simulator, integrator: str | None = None) -> dict:
     return check_contact(scene, states, integrator, case=case)
 
 
-def reference_rows(case: Case, tested: dict, runs: dict, own_model: bool = True) -> tuple[list[dict], np.ndarray | None]:
+def reference_rows(case: Case, tested: dict, runs: dict,
+                   own_model: bool = True) -> tuple[list[CheckRow], np.ndarray | None]:
     """The error at the scene's dt against the converged reference, for each trajectory under
     test, beside custom_sim's for the same integrator (shown, not judged); and the reference's
     states. For custom_sim (own_model) the difference is the integrator's error at this dt; for
@@ -356,9 +351,7 @@ def reference_rows(case: Case, tested: dict, runs: dict, own_model: bool = True)
     try:
         ref = case.reference()
     except ReferenceError as exc:
-        return [{"name": "reference", "isolates": "accuracy at this dt", "integrator": None,
-                 "position_error_max": None, "angle_error_max": None, "tolerance_position": None,
-                 "tolerance_angle": None, "pass": None, "reason": f"no converged reference: {exc}"}], None
+        return [CheckRow("reference", "accuracy at this dt", reason=f"no converged reference: {exc}")], None
     for name, run in tested.items():
         if isinstance(run, str):
             continue
@@ -371,17 +364,17 @@ def reference_rows(case: Case, tested: dict, runs: dict, own_model: bool = True)
             isolates = "difference to the scene model's converged solution (model and integration together)"
             reason = ("shown, not judged: your run against the scene's model solved to convergence; a difference "
                       "of model and one of integration both show here")
-        row = {"name": "reference", "isolates": isolates, "integrator": name, **err,
-               "tolerance_position": None, "tolerance_angle": None, "pass": None, "reason": reason}
+        details = {}
         if mine is not None and not isinstance(mine, str) and mine is not run:
             custom = reference_error(mine, ref.states)["position_error_max"]
-            row["custom_sim_position_error_max"] = custom
-            row["reason"] += f"; custom_sim with the same integrator and dt: {custom:.3g} m"
-        rows.append(row)
+            details["custom_sim_position_error_max"] = custom
+            reason += f"; custom_sim with the same integrator and dt: {custom:.3g} m"
+        rows.append(CheckRow("reference", isolates, name, **err, reason=reason, details=details))
     return rows, ref.states
 
 
 def reference_error(run: Trajectory, ref_states: np.ndarray) -> dict:
+    """position_error_max (m) and angle_error_max (rad) of the run against the reference."""
     s = run.states()
     n = min(len(s), len(ref_states))
     d = s[:n] - ref_states[:n]
@@ -404,7 +397,7 @@ def metrics_json(result: Result) -> dict:
     scene, tested, twin = result.scene, result.under_test, result.mujoco
     m = result.metrics
     limit = stable_step(scene)
-    contact = next((c for c in result.checks if c["name"] == "contact"), None)
+    contact = next((c for c in result.checks if c.name == "contact"), None)
     return {
         "name": scene.name,
         "integrator": scene.integrator,
@@ -415,17 +408,17 @@ def metrics_json(result: Result) -> dict:
         "angle_error_max": m["angle_error_max"],
         "energy_drift_custom": metrics.energy_drift(tested),
         "energy_drift_mujoco": metrics.energy_drift(twin),
-        "tolerance": {check_label(c): {"position": c["tolerance_position"], "angle": c["tolerance_angle"],
-                                       "reason": c["reason"]} for c in result.checks},
+        "tolerance": {c.label: {"position": c.tolerance_position, "angle": c.tolerance_angle, "reason": c.reason}
+                      for c in result.checks},
         "pass": result.passed,
         "wall_time_custom": tested.wall_time,
         "wall_time_mujoco": twin.wall_time,
-        "checks": result.checks,
+        "checks": [c.to_json() for c in result.checks],
         # ours
         "simulator": result.simulator,
         "status": result.status,
-        "not_judged": [check_label(c) for c in result.not_judged],
-        "failed_checks": [check_label(c) for c in result.failed],
+        "not_judged": [c.label for c in result.not_judged],
+        "failed_checks": [c.label for c in result.failed],
         "warnings": result.warnings,
         "description": scene.description,
         "shape": scene.body.shape,
@@ -447,7 +440,7 @@ def metrics_json(result: Result) -> dict:
         "mujoco_dt": twin.dt,
         "mappings": result.by_mapping,
         "attribution": result.attribution,
-        "contact_check": contact,
+        "contact_check": None if contact is None else contact.to_json(),
         "diagnosis": result.diagnosis,
         "law": law_json(result),
         "energy_balance": {name: {**metrics_block(b), "rule": b.rule} for name, b in result.balances.items()},
@@ -457,7 +450,6 @@ def metrics_json(result: Result) -> dict:
 def law_json(result: Result) -> dict:
     """The contact law the checks used, where it came from, and (under `run --law`) the scene
     file's own law and each effect that differs."""
-    import dataclasses
     scene = result.scene
     out = {"from": scene.law_from or "scene", "judged": dataclasses.asdict(scene.contact)}
     if scene.scene_contact is not None:

@@ -6,8 +6,7 @@ one-step maps (one_step.py), must land on states[i+1] to round-off. Nothing is i
 more than one step, so the tumbling motion's sensitivity cannot hide or fake a difference, and
 nothing is taken from custom_sim: the check is the same for any simulator.
 
-    check_step(scene, states, integrator, dt) -> row      (see CHECKS.md; row["residual"] is the
-                                                           per-step array, pop it before JSON)
+    check_step(scene, states, integrator, dt) -> CheckRow   (row.residual: the per-step array)
 """
 from __future__ import annotations
 
@@ -20,14 +19,13 @@ from compare.oracle.reference import Equations
 
 from ..oracle.one_step import (FORCE_ULPS, IMPLICIT_SOLVE_TOL, INPUT_ROUNDING_SAFETY, METHODS, NO_UNIQUE_STEP, STATE_ULPS,
                        Rounding, jump_defect, one_step, undecided)
+from .row import CheckRow
 
 COMPONENTS = ("x", "y", "theta", "vx", "vy", "omega")
 ISOLATES = "one step of the integrator from each state, against an independent right-hand side"
 # Rows per array operation: bounds the memory of a million-step trajectory (a box's 4 points
 # make about 20 temporaries of rows x 4 doubles) without costing speed.
 CHUNK = 100_000
-# Keys of the row that hold arrays (per step), not JSON: pop them before writing metrics.json.
-ARRAY_KEYS = ("residual",)
 
 
 @dataclass(frozen=True)
@@ -170,7 +168,7 @@ def _rounding_words(rounding: Rounding | None, input_rtol: float) -> str:
 
 
 def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED_LAW,
-               input_rtol=0.0, rounding: Rounding | None = None, equations: Equations | None = None) -> dict:
+               input_rtol=0.0, rounding: Rounding | None = None, equations: Equations | None = None) -> CheckRow:
     """The `step` check row for the trajectory `states` (steps + 1, 6), row 0 at t = 0, run with
     `integrator` at step `dt` (s); equations: the oracle's, if the caller has them (a Case).
     rounding: how the states were written, for trajectories read
@@ -178,79 +176,68 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
     relative one), None for full double precision; input_rtol: a relative rounding given as a
     number instead (10 significant digits: 5e-10), or a Rounding. The rounding is carried
     through the step into the bound (one_step.input_rounding_bound); where it swamps the motion
-    (ROUNDING_JUDGE_FRACTION), the row is not judged. Extra keys: first_step, first_time,
-    phase, component, residual_max (per component), bound_ratio_max, no_root_steps,
-    steps_checked, and "residual": the (steps, 6) per-step residual array (not JSON: pop it,
-    see ARRAY_KEYS)."""
+    (ROUNDING_JUDGE_FRACTION), the row is not judged. Details: first_step, first_time, phase,
+    component, residual_max (per component), bound_ratio_max, no_root_steps, steps_checked;
+    row.residual: the (steps, 6) per-step residual array (for the plots)."""
     states = np.asarray(states, dtype=float)
     if isinstance(input_rtol, Rounding):
         input_rtol, rounding = 0.0, input_rtol
     rtol = float(input_rtol or 0.0) + (rounding.rtol if rounding else 0.0)
     atol = rounding.atol if rounding else 0.0
-    row = {"name": "step", "isolates": ISOLATES, "integrator": integrator,
-           "position_error_max": None, "angle_error_max": None,
-           "tolerance_position": None, "tolerance_angle": None, "pass": None,
-           "first_step": None, "first_time": None, "phase": None, "component": None,
-           "residual_max": None, "residual": np.zeros((0, 6))}
+    details = {"first_step": None, "first_time": None, "phase": None, "component": None, "residual_max": None}
     if integrator not in METHODS:
-        row["reason"] = (f"integrator {integrator!r} is not one the harness can step "
-                         f"(known: {', '.join(METHODS)}): not judged")
-        return row
+        return _unstepped(integrator, details, f"integrator {integrator!r} is not one the harness can step "
+                                               f"(known: {', '.join(METHODS)}): not judged")
     if states.ndim != 2 or states.shape[1] != 6 or states.shape[0] < 2:
-        row["reason"] = f"expected states of shape (steps + 1, 6) with at least one step, got {states.shape}: not judged"
-        return row
+        return _unstepped(integrator, details, f"expected states of shape (steps + 1, 6) with at least one step, "
+                                               f"got {states.shape}: not judged")
     bad = _first_bad_finite(states)
     if bad is not None:
         states = states[:bad]
-        row["nonfinite_step"] = bad
+        details["nonfinite_step"] = bad
         if states.shape[0] < 2:
-            row["reason"] = f"state {bad} is not finite, no step before it to check: not judged"
-            row["pass"] = False
-            return row
+            return _unstepped(integrator, details, f"state {bad} is not finite, no step before it to check: not judged",
+                              passed=False)
     eq = equations or Equations.from_scene(scene)
     res = step_residuals(eq, states, integrator, dt, law, rtol, atol)
     r, b = res.residual, res.bound
     over = res.over
     ratio = res.ratio()
     pos, ang = np.hypot(r[:, 0], r[:, 1]), r[:, 2]
-    row.update(
-        position_error_max=float(pos.max()), angle_error_max=float(ang.max()),
-        tolerance_position=float(np.hypot(b[:, 0], b[:, 1]).max()),
-        tolerance_angle=float(b[:, 2].max()),
+    measured = {"position_error_max": float(pos.max()), "angle_error_max": float(ang.max())}
+    tolerance = {"tolerance_position": float(np.hypot(b[:, 0], b[:, 1]).max()), "tolerance_angle": float(b[:, 2].max())}
+    details.update(
         residual_max={c: float(v) for c, v in zip(COMPONENTS, r.max(axis=0))},
         bound_ratio_max=float(min(ratio.max(), 1e300)),
         steps_checked=int(r.shape[0]),
         no_root_steps=int(res.no_root.sum()),
-        residual=r,
     )
     failing = np.flatnonzero(over.any(axis=1))
     passed = failing.size == 0 and bad is None
-    row["pass"] = bool(passed)
     solve = (f"; implicit Euler also the Newton tolerance {IMPLICIT_SOLVE_TOL:g} m/s on v1 and "
              f"h times it on q1" if integrator == "implicit_euler" else "")
     jumps = (f"; {int(res.no_root.sum())} touchdown step(s) where the implicit equation has no root "
              f"were judged at the jump (d = 0 and the hull of the jump)" if res.no_root.any() else "")
-    row["reason"] = (f"round-off of two codes evaluating the same step, per step and component: "
-                     f"{STATE_ULPS:g} ulps of |z0| + |z1| and {FORCE_ULPS:g} ulps of h times the "
-                     f"magnitude of the force terms{solve}{jumps}"
-                     + ("; plus " + _rounding_words(rounding, input_rtol) + ": the next state's half unit, "
-                        f"and {INPUT_ROUNDING_SAFETY:g} x how far the half units of the state before move the "
-                        "step (stiff contact and sharp friction amplify them)" if rtol or atol else "")
-                     + "; the tolerances shown are the largest per-step bounds")
+    reason = (f"round-off of two codes evaluating the same step, per step and component: "
+              f"{STATE_ULPS:g} ulps of |z0| + |z1| and {FORCE_ULPS:g} ulps of h times the "
+              f"magnitude of the force terms{solve}{jumps}"
+              + ("; plus " + _rounding_words(rounding, input_rtol) + ": the next state's half unit, "
+                 f"and {INPUT_ROUNDING_SAFETY:g} x how far the half units of the state before move the "
+                 "step (stiff contact and sharp friction amplify them)" if rtol or atol else "")
+              + "; the tolerances shown are the largest per-step bounds")
     swamped = _swamped(eq, states, res) if (rtol or atol) else []
     # a residual over the (honest) bound is a failure whatever the rounding; only a pass that
     # the rounding could be hiding a mistake in becomes "not judged"
     if swamped and len(swamped) == len(_moving(eq, states)) and passed:
-        row.update(tolerance_position=None, tolerance_angle=None)
-        row["pass"] = None
-        row["reason"] = ("not judged: " + _rounding_words(rounding, input_rtol) + " carried through one step "
-                         f"exceeds {ROUNDING_JUDGE_FRACTION:g} of the largest change per step of every component "
-                         "that moves (" + ", ".join(swamped) + "), so a mistake could hide in the rounding; "
-                         "write more digits (%.17g keeps a double exactly)")
-        return row
+        return CheckRow("step", ISOLATES, integrator, **measured, details=details, reason_at=len(details), residual=r,
+                        reason="not judged: " + _rounding_words(rounding, input_rtol) + " carried through one step "
+                        f"exceeds {ROUNDING_JUDGE_FRACTION:g} of the largest change per step of every component "
+                        "that moves (" + ", ".join(swamped) + "), so a mistake could hide in the rounding; "
+                        "write more digits (%.17g keeps a double exactly)")
     if swamped:
-        row["reason"] += ("; the rounding allows " + ", ".join(swamped) + f" more than "
-                          f"{ROUNDING_JUDGE_FRACTION:g} of its largest change per step, so these say little")
+        reason += ("; the rounding allows " + ", ".join(swamped) + f" more than "
+                   f"{ROUNDING_JUDGE_FRACTION:g} of its largest change per step, so these say little")
+    reason_at = len(details)
     if failing.size:
         i = int(failing[0])
         comp = int(np.argmax(np.where(over[i], ratio[i], -1.0)))
@@ -258,19 +245,20 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
         if res.no_root[i]:
             where = (f"touchdown of point {_point_name(eq, int(res.jump_point[i]))} where the implicit "
                      f"equation has no root (judged at the jump); before it: {phase(eq, states[i])}")
-        row.update(first_step=i + 1, first_time=float((i + 1) * dt), phase=where,
-                   component=COMPONENTS[comp],
-                   failing_steps=int(failing.size),
-                   first_residual=float(r[i, comp]), first_bound=float(b[i, comp]))
+        details.update(first_step=i + 1, first_time=float((i + 1) * dt), phase=where,
+                       component=COMPONENTS[comp],
+                       failing_steps=int(failing.size),
+                       first_residual=float(r[i, comp]), first_bound=float(b[i, comp]))
     if res.undecided is not None and res.undecided.any():
-        row["undecided_steps"] = int(res.undecided.sum())
-        row["reason"] += f"; {row['undecided_steps']} step(s) not judged: {NO_UNIQUE_STEP}"
+        details["undecided_steps"] = int(res.undecided.sum())
+        reason += f"; {details['undecided_steps']} step(s) not judged: {NO_UNIQUE_STEP}"
     if bad is not None:
-        row["reason"] += f"; state {bad} is not finite (checked up to it)"
-    return row
+        reason += f"; state {bad} is not finite (checked up to it)"
+    return CheckRow("step", ISOLATES, integrator, **measured, **tolerance, passed=bool(passed), reason=reason,
+                    details=details, reason_at=reason_at, residual=r)
 
 
-def split_arrays(row: dict) -> tuple[dict, dict]:
-    """(JSON-safe row, arrays) for a check row."""
-    arrays = {k: row[k] for k in ARRAY_KEYS if k in row}
-    return {k: v for k, v in row.items() if k not in ARRAY_KEYS}, arrays
+def _unstepped(integrator: str | None, details: dict, reason: str, passed: bool | None = None) -> CheckRow:
+    """A step row with nothing measured: every detail so far precedes the reason."""
+    return CheckRow("step", ISOLATES, integrator, passed=passed, reason=reason, details=details,
+                    reason_at=len(details))

@@ -30,13 +30,14 @@ RUNGS = ("friction law", "contact point", "mapping", "integrator", "damping law"
 def contact_table(results: list[tuple]) -> list[str]:
     rows = []
     for scene, check, _ in results:
-        verdict = "not judged: " + check["reason"].removeprefix("not judged: ") if check["pass"] is None else (
-            "pass" if check["pass"] else "**FAIL**")
-        err = check.get("mapping_error", {}).get("relative_force_error")
-        rows.append([scene.name, f"{number(check['position_error_max'])}, {number(check['angle_error_max'])}",
-                     f"{number(check['tolerance_position'])}, {number(check['tolerance_angle'])}",
-                     f"{number(check.get('judged_until'))} of {number(check.get('duration'))}",
-                     number(check.get("motion_position")), number(err), verdict])
+        verdict = "not judged: " + check.reason.removeprefix("not judged: ") if check.passed is None else (
+            "pass" if check.passed else "**FAIL**")
+        d = check.details
+        err = d.get("mapping_error", {}).get("relative_force_error")
+        rows.append([scene.name, f"{number(check.position_error_max)}, {number(check.angle_error_max)}",
+                     f"{number(check.tolerance_position)}, {number(check.tolerance_angle)}",
+                     f"{number(d.get('judged_until'))} of {number(d.get('duration'))}",
+                     number(d.get("motion_position")), number(err), verdict])
     return markdown(["scene", "contact: difference (m, rad)", "tolerance (m, rad)", "judged until (s)", "motion (m)",
                      "mapping error", "verdict"], rows).splitlines()
 
@@ -77,5 +78,6 @@ def main(args) -> int:
     print("\n".join(ladder_table(results)))
     if args.json:
         Path(args.json).write_text(json.dumps(
-            [{"name": s.name, "contact": c, "attribution": a} for s, c, a in results], indent=2, allow_nan=False) + "\n")
-    return 1 if any(c["pass"] is False for _, c, _ in results) else 0
+            [{"name": s.name, "contact": c.to_json(), "attribution": a} for s, c, a in results], indent=2,
+            allow_nan=False) + "\n")
+    return 1 if any(c.passed is False for _, c, _ in results) else 0

@@ -142,42 +142,42 @@ def _number(value, unit: str) -> str:
     return "–" if value is None else f"{value:.3e} {unit}"
 
 
-def failure_text(check: dict) -> str:
-    """What a failed check measured: the component and value that left the tolerance."""
-    from ..checks.scenario import check_label
-
-    label = check_label(check)
-    if check.get("first_residual") is not None:   # step: per component, per step
-        return (f"{label}: {check['component']} off by {check['first_residual']:.3e} at step {check['first_step']} "
-                f"(t = {check['first_time']:.6g} s, {check['phase']}), round-off bound {check['first_bound']:.3e}")
+def failure_text(check) -> str:
+    """What a failed check (a CheckRow) measured: the component and value that left the tolerance."""
+    label, d = check.label, check.details
+    if d.get("first_residual") is not None:   # step: per component, per step
+        return (f"{label}: {d['component']} off by {d['first_residual']:.3e} at step {d['first_step']} "
+                f"(t = {d['first_time']:.6g} s, {d['phase']}), round-off bound {d['first_bound']:.3e}")
     parts = []
-    pos, tol_p = check.get("position_error_max"), check.get("tolerance_position")
-    ang, tol_a = check.get("angle_error_max"), check.get("tolerance_angle")
+    pos, tol_p = check.position_error_max, check.tolerance_position
+    ang, tol_a = check.angle_error_max, check.tolerance_angle
     if pos is not None and tol_p is not None and pos > tol_p:
         parts.append(f"position {pos:.3e} m (tolerance {tol_p:.3e} m)")
     if ang is not None and tol_a is not None and ang > tol_a:
         parts.append(f"angle {ang:.3e} rad (tolerance {tol_a:.3e} rad)")
-    if check.get("component_first_over") and check.get("first_step_over") is not None:
-        parts.append(f"first at step {check['first_step_over']}, in {check['component_first_over']}")
+    if d.get("component_first_over") and d.get("first_step_over") is not None:
+        parts.append(f"first at step {d['first_step_over']}, in {d['component_first_over']}")
     if not parts:   # failed on something else (a non-finite state, ...): its reason says what
-        parts.append(check.get("reason") or f"position {_number(pos, 'm')}, angle {_number(ang, 'rad')}")
+        parts.append(check.reason or f"position {_number(pos, 'm')}, angle {_number(ang, 'rad')}")
     return f"{label}: " + ", ".join(parts)
 
 
 def verdict_line(row: dict) -> str:
-    """The line `run` prints for a scenario that ran: pass (with what was not judged), FAIL
-    (each failed check's component and value), or not judged."""
-    from ..checks.scenario import SHOWN, check_label
+    """The line `run` prints for a scenario that ran (its metrics.json): pass (with what was not
+    judged), FAIL (each failed check's component and value), or not judged."""
+    from ..checks.row import CheckRow
+    from ..checks.scenario import SHOWN
 
     name = row["name"]
-    judged = [c for c in row["checks"] if c["pass"] is not None]
-    skipped = [check_label(c) for c in row["checks"] if c["pass"] is None and c["name"] not in SHOWN]
+    checks = [CheckRow.from_json(c) for c in row["checks"]]
+    judged = [c for c in checks if c.passed is not None]
+    skipped = [c.label for c in checks if c.passed is None and c.name not in SHOWN]
     note = f"; not judged: {', '.join(skipped)} (see the page)" if skipped else ""
     if not judged:
         return f"{name:<20} not judged: no check could be judged ({', '.join(skipped) or 'none'}; see the page)"
     if row["pass"]:
         return f"{name:<20} pass  {len(judged)} checks within tolerance{note}"
-    return f"{name:<20} FAIL  " + "; ".join(failure_text(c) for c in row["checks"] if c["pass"] is False)
+    return f"{name:<20} FAIL  " + "; ".join(failure_text(c) for c in checks if c.passed is False)
 
 
 def add_timeout(parser) -> None:

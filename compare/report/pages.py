@@ -16,7 +16,8 @@ from .atomic import finite_json, temporary_folder, write_text_atomically
 from ..checks import metrics
 from . import plots
 from ..checks.law_difference import law_lines
-from ..checks.scenario import Result, check_label, metrics_json
+from ..checks.row import CheckRow
+from ..checks.scenario import Result, metrics_json
 from ..table import DASH, markdown, number
 
 
@@ -79,15 +80,16 @@ def checks_table(result: Result) -> list[str]:
     """The table a scenario page opens with: one row per check."""
     rows = []
     for c in result.checks:
-        diff = (f"{_num(c['position_error_max'], ' m')}, {_num(c['angle_error_max'], ' rad')}"
-                if c["position_error_max"] is not None else DASH)
-        tol = (f"{_num(c['tolerance_position'], ' m')}, {_num(c['tolerance_angle'], ' rad')}"
-               if c["tolerance_position"] is not None else DASH)
-        reason = c["reason"].removeprefix("not judged: ") if c["pass"] is None else c["reason"]
-        note = "" if c["pass"] else f" ({reason})"
-        where = f"; first at step {c['first_step']} ({c.get('phase', '')}, {c.get('component', '')})" \
-            if c["pass"] is False and c.get("first_step") is not None else ""
-        rows.append([check_label(c), c["isolates"], diff, tol, f"{_verdict(c['pass'])}{note}{where}"])
+        diff = (f"{_num(c.position_error_max, ' m')}, {_num(c.angle_error_max, ' rad')}"
+                if c.position_error_max is not None else DASH)
+        tol = (f"{_num(c.tolerance_position, ' m')}, {_num(c.tolerance_angle, ' rad')}"
+               if c.tolerance_position is not None else DASH)
+        reason = c.reason.removeprefix("not judged: ") if c.passed is None else c.reason
+        note = "" if c.passed else f" ({reason})"
+        d = c.details
+        where = f"; first at step {d['first_step']} ({d.get('phase', '')}, {d.get('component', '')})" \
+            if c.passed is False and d.get("first_step") is not None else ""
+        rows.append([c.label, c.isolates, diff, tol, f"{_verdict(c.passed)}{note}{where}"])
     return markdown(["check", "what it isolates", "largest difference", "tolerance", "verdict"], rows).splitlines()
 
 
@@ -142,13 +144,13 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
     twin, tested = result.mujoco, result.under_test
     ev_c, ev_m = data["events_custom"], data["events_mujoco"]
     judged = result.judged
-    skipped = ", ".join(check_label(c) for c in result.not_judged)
+    skipped = ", ".join(c.label for c in result.not_judged)
     if not judged:
         summary = f"**NOT JUDGED**: no check could be judged ({skipped}; each row says why)."
     else:
         summary = (f"**{'PASS' if result.passed else 'FAIL'}**: {len(judged) - len(result.failed)} of {len(judged)} "
                    f"judged checks within tolerance"
-                   + (f"; outside: {', '.join(check_label(c) for c in result.failed)}" if result.failed else "")
+                   + (f"; outside: {', '.join(c.label for c in result.failed)}" if result.failed else "")
                    + (f"; not judged: {skipped} (each row says why)" if skipped else "") + ".")
     lines = [f"# {scene.name}", "", scene.description, "", summary, ""]
     lines += law_lines(scene, result.law_differences)
@@ -265,10 +267,9 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
     table += [[name, *[""] * 12, f"**{status}**: {why}"] for name, status, why in failures]
     lines += markdown(INDEX_HEADERS, table).splitlines()
     lines += ["", "## Every judged check", ""]
-    checks = [[r["name"], check_label(c), *map(_num, (c["position_error_max"], c["tolerance_position"],
-                                                      c["angle_error_max"], c["tolerance_angle"])),
-               _verdict(c["pass"])]
-              for r in rows for c in r["checks"] if c["pass"] is not None]
+    checks = [[r["name"], c.label, *map(_num, (c.position_error_max, c.tolerance_position, c.angle_error_max,
+                                               c.tolerance_angle)), _verdict(c.passed)]
+              for r in rows for c in map(CheckRow.from_json, r["checks"]) if c.passed is not None]
     lines += markdown(["scenario", "check", "largest position difference (m)", "tolerance (m)",
                        "largest angle difference (rad)", "tolerance (rad)", "verdict"], checks).splitlines()
     lines.append("")

@@ -203,13 +203,13 @@ def snapshots(scene: Scene, a: Trajectory, b: Trajectory, path: Path, count: int
     return _save(fig, path)
 
 
-def step_residuals(scene: Scene, residuals: dict, checks: list[dict], path: Path) -> str | None:
+def step_residuals(scene: Scene, residuals: dict, checks: list, path: Path) -> str | None:
     """Each integrator's one-step residual against time, with its round-off bound.
-    residuals: integrator -> per-step position residual (m), shape (steps,)."""
+    residuals: integrator -> per-step position residual (m), shape (steps,); checks: CheckRows."""
     shown = {name: r for name, r in residuals.items() if r is not None and len(r)}
     if not shown:
         return None
-    bounds = {c["integrator"]: c["tolerance_position"] for c in checks if c["name"] == "step"}
+    bounds = {c.integrator: c.tolerance_position for c in checks if c.name == "step"}
     fig, ax = plt.subplots(figsize=(8, 4))
     for name, r in shown.items():
         r = np.maximum(np.asarray(r, dtype=float), 1e-20)

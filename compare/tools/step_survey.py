@@ -56,8 +56,9 @@ def print_survey(names: list[str], window: int | None = None) -> int:
                 continue
             row = r["row"]
             where = ""
-            if not row["pass"]:
-                where = f"{row['first_step']} ({row['component']}; {row['phase']})"
+            if not row.passed:
+                d = row.details
+                where = f"{d['first_step']} ({d['component']}; {d['phase']})"
                 bad += 1
                 verdict = "FAIL"
                 if r["unconverged"]:
@@ -65,7 +66,7 @@ def print_survey(names: list[str], window: int | None = None) -> int:
             else:
                 verdict = "pass"
             yield [r["scene"], r["integrator"], str(r["steps"]), f"{r['seconds']:.2f}",
-                   f"{row['bound_ratio_max']:.3g}", verdict, where]
+                   f"{row.details['bound_ratio_max']:.3g}", verdict, where]
     stream(["scene", "integrator", "steps", "check s", "largest residual / bound", "verdict", "first failing step"],
            rows())
     return 1 if bad else 0

@@ -75,7 +75,7 @@ def _decide(traj: dict, moments: dict | None, scene: Scene, states, integrator: 
     """(named, not_named): the candidates that reproduce every probed step (every chosen moment
     and every step of the trajectory), and those that explain all but some, with how many."""
     probed = bool(moments and moments.get("moments"))
-    judged = traj.get("step", {}).get("pass") is not None
+    judged = traj["step"].passed is not None
     by_traj = list(traj.get("explained_by", []))
     reach = {x["name"]: x for x in (moments or {}).get("mistakes", [])} if probed else {}
     candidates = by_traj + [n for n in ((moments or {}).get("explained_by", []) if probed else [])
@@ -151,17 +151,17 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
                if probe and getattr(simulator, "kind", "") == "step" else None)
     names, not_named = _decide(traj, moments, scene, states, integrator)
     named = _named(names)
-    step_row = traj.get("step", {})
+    step_row = traj["step"]
     disagree = bool(moments and moments.get("disagree"))
     force = (moments or {}).get("force") if disagree else traj.get("force")
     gaps = (moments or {}).get("not_probed", [])
     gap_text = ("; could not be probed: " + "; ".join(f"{g['name']} ({g['effect']}: {g['why']})" for g in gaps)
                 if gaps else "")
-    if step_row.get("pass") is True and not disagree:
+    if step_row.passed is True and not disagree:
         verdict = "every step agrees with the reference step to round-off: nothing to explain" + gap_text
     elif named:
         verdict = "explained by " + "; ".join(f"{n['name']} ({n['seed_line']})" for n in named)
-    elif step_row.get("pass") is None and not disagree:
+    elif step_row.passed is None and not disagree:
         verdict = traj.get("verdict", "not diagnosed")
     else:
         parts = []
@@ -169,26 +169,27 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
             at = (f"at {force['where']} (step {force['step']}, t = {force['time']:.6g} s)"
                   if "step" in force and force["where"] != f"step {force['step']}" else f"at {force['where']}")
             parts.append(f"{at} your step is off by {force['off']}: a force of {force['text']}")
-        if step_row.get("pass") is False:
+        if step_row.passed is False:
             parts.append("your trajectory: " + _trajectory_where(step_row))
         parts += [n["text"] for n in not_named[:VERDICT_NOT_NAMED]]
         verdict = "no catalogued mistake explains the residual to round-off: " + "; ".join(parts)
         laws = law_findings(simulator, scene, states, rounding, probe)
         if laws:
             verdict = law_verdict(laws) + ". " + verdict[0].upper() + verdict[1:]
-    return {"integrator": integrator, "moments": moments, "trajectory": traj, "named": named,
-            "not_named": not_named, "force": force, "verdict": verdict, "laws": laws}
+    return {"integrator": integrator, "moments": moments, "trajectory": {**traj, "step": step_row.to_json()},
+            "named": named, "not_named": not_named, "force": force, "verdict": verdict, "laws": laws}
 
 
-def _trajectory_where(row: dict) -> str:
-    """The step check's first failing step and largest residual, in one clause."""
-    if row.get("first_step") is None:
-        where = f"state {row.get('nonfinite_step')} is not finite"
+def _trajectory_where(row) -> str:
+    """The step check's (a CheckRow's) first failing step and largest residual, in one clause."""
+    d = row.details
+    if d.get("first_step") is None:
+        where = f"state {d.get('nonfinite_step')} is not finite"
     else:
-        where = (f"first step over round-off {row['first_step']} (t = {row['first_time']:.6g} s), "
-                 f"{row['phase']}, component {row['component']}")
-    return (f"{where}, largest residual {row['position_error_max']:.3g} m, "
-            f"{row['angle_error_max']:.3g} rad")
+        where = (f"first step over round-off {d['first_step']} (t = {d['first_time']:.6g} s), "
+                 f"{d['phase']}, component {d['component']}")
+    return (f"{where}, largest residual {row.position_error_max:.3g} m, "
+            f"{row.angle_error_max:.3g} rad")
 
 
 COMPONENTS = ("x", "y", "theta", "vx", "vy", "omega")

@@ -10,11 +10,12 @@ from __future__ import annotations
 import sys
 
 
-def _cell(row: dict) -> str:
-    if row["pass"] is None:
+def _cell(row) -> str:
+    """A CheckRow in a few words."""
+    if row.passed is None:
         return "not judged"
-    word = "pass" if row["pass"] else "FAIL"
-    return f"{word} {row['position_error_max']:.2e} m / {row['tolerance_position']:.2e} m"
+    word = "pass" if row.passed else "FAIL"
+    return f"{word} {row.position_error_max:.2e} m / {row.tolerance_position:.2e} m"
 
 
 def validate(spec: str | None, scenes: list[str], whole: bool = False, trajectories: str | None = None,
@@ -23,7 +24,7 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
     per scene (with markdown, its diagnosis in full); the exit status."""
     from ..scenarios import load_all
     from ..checks.identical_check import check_identical
-    from ..checks.step_check import check_step, split_arrays
+    from ..checks.step_check import check_step
     from . import diagnosis, load_simulator, render_markdown, run_user
 
     from . import UserFault, preflight
@@ -46,10 +47,10 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
             continue
         states = traj.states()
         same = check_identical(scene, states, traj.integrator, scene.dt, traj.meta["rounding"])
-        step, _ = split_arrays(check_step(scene, states, traj.integrator, scene.dt, rounding=traj.meta["rounding"]))
+        step = check_step(scene, states, traj.integrator, scene.dt, rounding=traj.meta["rounding"])
         diag = diagnosis(sim, scene, states)
-        ok &= same["pass"] is not False and step["pass"] is not False
-        judged += (same["pass"] is not None) + (step["pass"] is not None)
+        ok &= same.passed is not False and step.passed is not False
+        judged += (same.passed is not None) + (step.passed is not None)
         print(f"{scene.name:<16} {_cell(same):<34} {_cell(step):<34} {diag['verdict']}")
         if markdown:
             print("\n" + render_markdown(diag) + "\n")

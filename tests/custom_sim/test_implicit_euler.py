@@ -184,12 +184,12 @@ def test_no_root_step_lands_on_the_jump(scene_factory, law):
     _, _, solved = one_step(Equations.from_scene(scene), states[:1], H, "implicit_euler")
     assert not solved[0], "the harness finds a root: the state does not test the jump"
     row = check_step(scene, states, "implicit_euler", H)
-    assert row["pass"] is True and row["no_root_steps"] == 1, row["reason"]
+    assert row.passed is True and row.details["no_root_steps"] == 1, row.reason
     # and a step off the jump by more than round-off fails the same check
     off = states.copy()
     off[1, 4] += 1e-8
     off[1, 1] += H * 1e-8
-    assert check_step(dataclasses.replace(scene), off, "implicit_euler", H)["pass"] is False
+    assert check_step(dataclasses.replace(scene), off, "implicit_euler", H).passed is False
 
 
 def test_a_jump_step_is_not_taken_where_a_root_exists(scene_factory):
@@ -228,5 +228,5 @@ def test_fast_impact_at_its_former_step_lands_on_the_jump():
     scene = dataclasses.replace(load("fast_impact"), integrator="implicit_euler", dt=dt, duration=100 * dt)
     tr = simulate(scene)
     row = check_step(scene, tr.states(), "implicit_euler", dt)
-    assert row["no_root_steps"] >= 1, "the window no longer holds the jump it tests"
-    assert row["pass"] is True and tr.meta["newton_unconverged_steps"] == 0, (row["first_step"], row["phase"])
+    assert row.details["no_root_steps"] >= 1, "the window no longer holds the jump it tests"
+    assert row.passed is True and tr.meta["newton_unconverged_steps"] == 0, (row.details["first_step"], row.details["phase"])

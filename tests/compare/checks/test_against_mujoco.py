@@ -26,14 +26,14 @@ def test_builtin_scenario_agrees_with_mujoco(path):
     result = run_scenario(scene)
     assert result.error is None, result.error
     assert result.passed
-    contact = next(c for c in result.checks if c["name"] == "contact")
-    assert contact["pass"] is True, contact["reason"]
-    assert contact["position_error_max"] <= contact["tolerance_position"] <= MOTION_SHARE * contact["motion_position"]
-    if contact["tolerance_angle"] is not None:
-        assert contact["angle_error_max"] <= contact["tolerance_angle"] <= MOTION_SHARE * contact["motion_angle"]
+    contact = next(c for c in result.checks if c.name == "contact")
+    assert contact.passed is True, contact.reason
+    assert contact.position_error_max <= contact.tolerance_position <= MOTION_SHARE * contact.details["motion_position"]
+    if contact.tolerance_angle is not None:
+        assert contact.angle_error_max <= contact.tolerance_angle <= MOTION_SHARE * contact.details["motion_angle"]
     # the full comparison: shown, not judged, and fully attributed
-    native = next(c for c in result.checks if c["name"] == "native")
-    assert native["pass"] is None and native["position_error_max"] == result.metrics["position_error_max"]
+    native = next(c for c in result.checks if c.name == "native")
+    assert native.passed is None and native.position_error_max == result.metrics["position_error_max"]
     ladder = result.attribution
     assert all(r["measured"] for r in ladder), [r["note"] for r in ladder]
     assert ladder[0]["position_error_max"] == pytest.approx(result.metrics["position_error_max"], rel=1e-9, abs=1e-15)

@@ -95,22 +95,22 @@ def mistaken(scene, mass=1.0, inertia=1.0, points=1.0, law=None):
 def test_a_known_mistake_fails(name, mistake):
     scene = short(name, 0.8)
     row = check_contact(scene, mistaken(contact_scene(scene), **mistake))
-    assert row["pass"] is False, (f"{name} with {mistake}: {row['position_error_max']:.3e} m within "
-                                  f"{row['tolerance_position']:.3e} m")
+    assert row.passed is False, (f"{name} with {mistake}: {row.position_error_max:.3e} m within "
+                                 f"{row.tolerance_position:.3e} m")
 
 
 def test_the_right_states_pass_when_given():
     scene = short("t_shape_drop", 0.8)
     row = check_contact(scene, mistaken(contact_scene(scene)))
-    assert row["pass"] is True, row["reason"]
+    assert row.passed is True, row.reason
 
 
 def test_without_contact_it_is_not_judged():
     scene = make_scene({"shape": "box", "mass": 1.0, "size": [0.2, 0.1]},
                        {"position": [0.0, 1.0], "angular_velocity": 3.0}, effects=["gravity"], duration=0.2)
     row = check_contact(scene)
-    assert row["pass"] is None and row["reason"].startswith("not judged")
-    assert row["tolerance_position"] is None
+    assert row.passed is None and row.reason.startswith("not judged")
+    assert row.tolerance_position is None
 
 
 def test_an_integrator_mujoco_lacks_adds_its_measured_difference():
@@ -118,10 +118,10 @@ def test_an_integrator_mujoco_lacks_adds_its_measured_difference():
     difference between it and MuJoCo's update, and a wrong inertia still fails."""
     scene = dataclasses.replace(short("t_shape_drop", 0.8), integrator="explicit_euler")
     right = check_contact(scene)
-    assert right["pass"] is True and right["integrator_position_max"] > 0.0, right["reason"]
-    assert "explicit_euler" in right["reason"]
+    assert right.passed is True and right.details["integrator_position_max"] > 0.0, right.reason
+    assert "explicit_euler" in right.reason
     wrong = check_contact(scene, mistaken(contact_scene(scene), inertia=1.1))
-    assert wrong["pass"] is False, wrong
+    assert wrong.passed is False, wrong
 
 
 def test_states_that_blow_up_fail_with_the_step():
@@ -129,8 +129,8 @@ def test_states_that_blow_up_fail_with_the_step():
     states = mistaken(contact_scene(scene))
     states[500:] = np.nan
     row = check_contact(scene, states)
-    assert row["pass"] is False and "step 500" in row["reason"]
-    assert row["first_exceeding_time"] == pytest.approx(500 * scene.dt)
+    assert row.passed is False and "step 500" in row.reason
+    assert row.details["first_exceeding_time"] == pytest.approx(500 * scene.dt)
 
 
 # The rule every judged tolerance obeys, written here on its own (not read from the checks): a
@@ -142,24 +142,24 @@ def rule_breaches(row: dict, reference: np.ndarray, dt: float) -> list[str]:
     """The judged tolerances of `row` above a tenth of the motion over its judged window
     [0, judged_until], the motion measured here from `reference` (states every dt): the range of
     the COM path (m) and of the angle (rad)."""
-    if row["pass"] is None:
+    if row.passed is None:
         return []
-    until = row.get("judged_until")
-    assert until is not None, f"{row['name']}: a judged row names its window"
+    until = row.details.get("judged_until")
+    assert until is not None, f"{row.name}: a judged row names its window"
     window = reference[np.arange(len(reference)) * dt <= until + 1e-9 * dt]
     spans = window.max(axis=0) - window.min(axis=0)
     moved, turned = float(np.hypot(spans[0], spans[1])), float(spans[2])
     out = []
-    if row["tolerance_position"] is None or row["tolerance_position"] > A_TENTH * moved:
-        out.append(f"{row['name']}: position tolerance {row['tolerance_position']} m, motion {moved:.4g} m")
-    if row["tolerance_angle"] is not None and row["tolerance_angle"] > A_TENTH * turned:
-        out.append(f"{row['name']}: angle tolerance {row['tolerance_angle']:.4g} rad, motion {turned:.4g} rad")
+    if row.tolerance_position is None or row.tolerance_position > A_TENTH * moved:
+        out.append(f"{row.name}: position tolerance {row.tolerance_position} m, motion {moved:.4g} m")
+    if row.tolerance_angle is not None and row.tolerance_angle > A_TENTH * turned:
+        out.append(f"{row.name}: angle tolerance {row.tolerance_angle:.4g} rad, motion {turned:.4g} rad")
     return out
 
 
 def contact_breaches(scene) -> list[str]:
     row = check_contact(scene)
-    assert row["pass"] is not None, row["reason"]
+    assert row.passed is not None, row.reason
     native, twin, _ = native_run(contact_scene(scene))
     return rule_breaches(row, native, twin.dt)
 
@@ -186,5 +186,5 @@ def test_every_judged_identical_tolerance_is_within_a_tenth_of_the_motion(name):
     scene = load(name)
     states = simulate(scene).states()
     row = check_identical(scene, states, scene.integrator, scene.dt, None)
-    assert row["pass"] is True, row["reason"]
+    assert row.passed is True, row.reason
     assert rule_breaches(row, states, scene.dt) == []

@@ -35,16 +35,16 @@ def row_for(scene, integrator="semi_implicit_euler"):
 
 
 def assert_json_row(row):
-    assert KEYS <= set(row)
-    json.dumps(row, allow_nan=False)
+    assert KEYS <= set(row.to_json())
+    json.dumps(row.to_json(), allow_nan=False)
 
 
 @pytest.mark.parametrize("integrator", ["semi_implicit_euler", "rk4"])
 def test_custom_sim_passes_to_round_off(integrator):
     row = row_for(short("t_shape_drop"), integrator)
     assert_json_row(row)
-    assert row["pass"] is True and row["bound"] == "round-off", row["reason"]
-    assert row["tolerance_position"] == ROUNDOFF_FLOOR_POSITION
+    assert row.passed is True and row.details["bound"] == "round-off", row.reason
+    assert row.tolerance_position == ROUNDOFF_FLOOR_POSITION
 
 
 @pytest.mark.parametrize("integrator", ["explicit_euler", "implicit_euler"])
@@ -52,7 +52,7 @@ def test_integrators_mujoco_lacks_are_not_judged(integrator):
     scene = short("box_drop", 0.01)
     row = check_dynamics(scene, np.zeros((scene.steps + 1, 6)), integrator, scene.dt)
     assert_json_row(row)
-    assert row["pass"] is None and "MuJoCo has no" in row["reason"] and "check step" in row["reason"]
+    assert row.passed is None and "MuJoCo has no" in row.reason and "check step" in row.reason
 
 
 def test_a_non_finite_trajectory_fails_with_its_step():
@@ -61,7 +61,7 @@ def test_a_non_finite_trajectory_fails_with_its_step():
     states[37:, 1] = np.nan
     row = check_dynamics(scene, states, "semi_implicit_euler", scene.dt)
     assert_json_row(row)
-    assert row["pass"] is False and row["first_step_over"] == 37
+    assert row.passed is False and row.details["first_step_over"] == 37
 
 
 def test_a_motion_that_amplifies_round_off_is_judged_with_its_measured_sensitivity():
@@ -73,9 +73,9 @@ def test_a_motion_that_amplifies_round_off_is_judged_with_its_measured_sensitivi
     states = np.vstack([stepper.state.copy()] + [stepper.advance(1).copy() for _ in range(scene.steps)])
     row = check_dynamics(scene, states, "semi_implicit_euler", scene.dt)
     assert_json_row(row)
-    assert row["bound"] == "sensitivity" and row["pass"] is True, row["reason"]
-    assert ROUNDOFF_FLOOR_POSITION < row["position_error_max"] <= row["tolerance_position"] <= HORIZON_POSITION
-    assert row["friction_step_number_max"] > 2.0 and "unstable" in row["reason"]
+    assert row.details["bound"] == "sensitivity" and row.passed is True, row.reason
+    assert ROUNDOFF_FLOOR_POSITION < row.position_error_max <= row.tolerance_position <= HORIZON_POSITION
+    assert row.details["friction_step_number_max"] > 2.0 and "unstable" in row.reason
 
 
 # Mistakes put into custom_sim's own code, one at a time.
@@ -120,11 +120,11 @@ def test_a_mistake_in_custom_sim_fails_the_check_and_leaves_the_twin_alone(monke
     assert not np.array_equal(wrong, correct), "the mistake changes custom_sim's run"
     row = check_dynamics(scene, wrong, "semi_implicit_euler", scene.dt)
     assert_json_row(row)
-    assert row["pass"] is False, (f"{mistake.__name__} on {name} passed: {row['position_error_max']:.3g} m, "
-                                  f"{row['angle_error_max']:.3g} rad against {row['tolerance_position']:.3g} m")
-    assert row["position_error_max"] > 1e3 * row["tolerance_position"], (
-        f"{mistake.__name__} on {name}: {row['position_error_max']:.3g} m is close to the tolerance "
-        f"{row['tolerance_position']:.3g} m")
+    assert row.passed is False, (f"{mistake.__name__} on {name} passed: {row.position_error_max:.3g} m, "
+                                 f"{row.angle_error_max:.3g} rad against {row.tolerance_position:.3g} m")
+    assert row.position_error_max > 1e3 * row.tolerance_position, (
+        f"{mistake.__name__} on {name}: {row.position_error_max:.3g} m is close to the tolerance "
+        f"{row.tolerance_position:.3g} m")
     assert np.array_equal(simulate_dynamics(scene).states(), twin_before), \
         "the twin moved with a mistake made in custom_sim"
 
@@ -145,7 +145,7 @@ def test_every_judged_dynamics_tolerance_is_within_a_tenth_of_the_motion(name, i
     """A point mass and a ball bouncing straight never turn: their angle is shown, not judged
     (a round-off tolerance of 1e-9 rad on an angle that stays 0 would exceed a tenth of it)."""
     row, breaches = twin_breaches(load(name), integrator)
-    assert row["pass"] is True, row["reason"]
+    assert row.passed is True, row.reason
     assert breaches == []
 
 
@@ -158,13 +158,13 @@ def barely_turning():
 
 def test_an_angle_that_barely_turns_is_shown_not_judged():
     row, breaches = twin_breaches(barely_turning())
-    assert breaches == [] and row["pass"] is True
-    assert row["tolerance_angle"] is None and row["tolerance_angle_shown"] == ROUNDOFF_FLOOR_ANGLE
-    assert row["motion_angle"] == pytest.approx(2e-10, rel=1e-3)
-    assert "the angle is shown, not judged" in row["reason"]
+    assert breaches == [] and row.passed is True
+    assert row.tolerance_angle is None and row.details["tolerance_angle_shown"] == ROUNDOFF_FLOOR_ANGLE
+    assert row.details["motion_angle"] == pytest.approx(2e-10, rel=1e-3)
+    assert "the angle is shown, not judged" in row.reason
 
 
 def test_a_lifted_cap_is_caught(monkeypatch):
     monkeypatch.setattr(dynamics_check, "MOTION_SHARE", 10.0)
     row, breaches = twin_breaches(barely_turning())
-    assert row["tolerance_angle"] == ROUNDOFF_FLOOR_ANGLE and breaches
+    assert row.tolerance_angle == ROUNDOFF_FLOOR_ANGLE and breaches

@@ -100,8 +100,8 @@ def test_full_comparison_is_not_judged_unless_the_scene_sets_a_tolerance():
     point = load_scene("scenarios/point_drop.toml")
     far = {"position_error_max": 1e3, "angle_error_max": 1e3}
     row = native_check.native_row(point, far)
-    assert row["pass"] is None and row["reason"].startswith("not judged")
+    assert row.passed is None and row.reason.startswith("not judged")
     own = dataclasses.replace(point, tolerance=dataclasses.replace(point.tolerance, position=0.01, reason="lab"))
     row = native_check.native_row(own, {"position_error_max": 0.009, "angle_error_max": 5.0})
-    assert row["pass"] is True and row["tolerance_position"] == 0.01 and "lab" in row["reason"]
-    assert native_check.native_row(own, {"position_error_max": 0.011, "angle_error_max": 0.0})["pass"] is False
+    assert row.passed is True and row.tolerance_position == 0.01 and "lab" in row.reason
+    assert native_check.native_row(own, {"position_error_max": 0.011, "angle_error_max": 0.0}).passed is False

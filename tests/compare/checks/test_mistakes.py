@@ -85,7 +85,7 @@ def test_diagnose_names_the_mistake(name):
     states = variant_trajectory(BY_NAME[name], scene, integrator,
                                 WINDOW if integrator in ("explicit_euler", "semi_implicit_euler") else BEFORE + 100)
     out = diagnose(scene, states, integrator, scene.dt)
-    assert out["step"]["pass"] is False
+    assert out["step"].passed is False
     assert out["explained_by"] == [name], out["verdict"]
     assert BY_NAME[name].seed_line in out["verdict"]
 
@@ -105,17 +105,17 @@ def test_a_mistake_outside_the_catalogue_is_not_guessed():
     stiffer = dataclasses.replace(scene, contact=dataclasses.replace(scene.contact, k=1.01 * scene.contact.k))
     states = simulate(dataclasses.replace(stiffer, duration=0.4)).states()
     out = diagnose(scene, states, scene.integrator, scene.dt)
-    assert out["step"]["pass"] is False and out["explained_by"] == []
+    assert out["step"].passed is False and out["explained_by"] == []
     # a stiffer ground changes Fn, seen first in vy or through the friction it bounds in vx
-    assert "no catalogued mistake" in out["verdict"] and out["step"]["component"] in ("vx", "vy")
-    assert "contact at point 0" in out["step"]["phase"]
+    assert "no catalogued mistake" in out["verdict"] and out["step"].details["component"] in ("vx", "vy")
+    assert "contact at point 0" in out["step"].details["phase"]
 
 
 def test_a_correct_trajectory_has_nothing_to_explain():
     scene = load("box_slide")
     out = diagnose(scene, simulate(dataclasses.replace(scene, duration=0.2)).states(),
                    scene.integrator, scene.dt)
-    assert out["step"]["pass"] is True and out["explained_by"] == []
+    assert out["step"].passed is True and out["explained_by"] == []
 
 
 def test_diagnose_step_from_moments_names_the_mistake():

@@ -12,7 +12,7 @@ import custom_sim
 from compare.oracle.reference import Equations
 from compare.scenarios import load, load_builtins
 from compare.oracle import one_step
-from compare.checks.step_check import check_step, split_arrays
+from compare.checks.step_check import check_step
 from custom_sim.chatter import WATCH_COLUMNS
 from custom_sim.integrators import INTEGRATORS, NEWTON_TOL, integrate
 from custom_sim.model import build_model, initial_state
@@ -67,37 +67,38 @@ def test_custom_sim_holds_to_round_off(scene, integrator):
     states, counters = run_custom(sc)
     row = check_step(sc, states, integrator, sc.dt)
     assert int(counters[3]) == 0, "custom_sim counts an unconverged Newton solve"
-    assert row["pass"] is True, (row["first_step"], row["phase"], row["component"],
-                                 row.get("first_residual"), row.get("first_bound"))
-    assert row["bound_ratio_max"] < 1.0
+    d = row.details
+    assert row.passed is True, (d["first_step"], d["phase"], d["component"], d.get("first_residual"), d.get("first_bound"))
+    assert row.details["bound_ratio_max"] < 1.0
 
 
 def test_row_is_json_safe_and_names_its_arrays():
     sc = window(load("box_drop"), "semi_implicit_euler", 3000)
     states, _ = run_custom(sc)
-    row, arrays = split_arrays(check_step(sc, states, "semi_implicit_euler", sc.dt))
-    text = json.dumps(row, allow_nan=False)
-    assert "NaN" not in text and arrays["residual"].shape == (sc.steps, 6)
+    row = check_step(sc, states, "semi_implicit_euler", sc.dt)
+    data = row.to_json()
+    text = json.dumps(data, allow_nan=False)
+    assert "NaN" not in text and row.residual.shape == (sc.steps, 6) and "residual" not in data
     for key in ("name", "isolates", "integrator", "position_error_max", "angle_error_max",
                 "tolerance_position", "tolerance_angle", "pass", "reason", "first_step",
                 "first_time", "phase", "component", "residual_max"):
-        assert key in row, key
-    assert row["name"] == "step" and row["pass"] is True
+        assert key in data, key
+    assert row.name == "step" and row.passed is True
 
 
 def test_unknown_integrator_is_not_judged():
     sc = load("point_drop")
     row = check_step(sc, np.zeros((3, 6)), "verlet", sc.dt)
-    assert row["pass"] is None and "verlet" in row["reason"]
+    assert row.passed is None and "verlet" in row.reason
 
 
 def test_non_finite_state_fails_and_is_named():
     sc = window(load("point_drop"), "semi_implicit_euler", 200)
     states, _ = run_custom(sc)
     states[150, 4] = np.nan
-    row, _ = split_arrays(check_step(sc, states, "semi_implicit_euler", sc.dt))
-    assert row["pass"] is False and row["nonfinite_step"] == 150
-    json.dumps(row, allow_nan=False)
+    row = check_step(sc, states, "semi_implicit_euler", sc.dt)
+    assert row.passed is False and row.details["nonfinite_step"] == 150
+    json.dumps(row.to_json(), allow_nan=False)
 
 
 # ---------------------------------------------------------------------------------------
@@ -113,8 +114,8 @@ def test_wrong_inertia_fails_at_the_first_contact_in_omega():
     props = _props(sc, inertia=1.1 * custom_sim.mass_properties(sc.body).inertia)
     states, _ = run_custom(sc, props)
     row = check_step(sc, states, "semi_implicit_euler", sc.dt)
-    assert row["pass"] is False and row["component"] == "omega"
-    assert row["phase"].startswith("contact at point 0")
+    assert row.passed is False and row.details["component"] == "omega"
+    assert row.details["phase"].startswith("contact at point 0")
 
 
 def test_missing_contact_point_fails_where_that_corner_touches():
@@ -123,16 +124,16 @@ def test_missing_contact_point_fails_where_that_corner_touches():
     props = custom_sim.mass_properties(sc.body)
     states, _ = run_custom(sc, dataclasses.replace(props, points=props.points[1:].copy()))
     row = check_step(sc, states, "rk4", sc.dt)
-    assert row["pass"] is False and row["component"] in ("vy", "omega")
-    assert "point 0 (-0.1, -0.05)" in row["phase"]
+    assert row.passed is False and row.details["component"] in ("vy", "omega")
+    assert "point 0 (-0.1, -0.05)" in row.details["phase"]
 
 
 def test_explicit_euler_named_semi_implicit_fails_in_flight():
     sc = window(load("point_drop"), "explicit_euler", 500)
     states, _ = run_custom(sc)
     row = check_step(sc, states, "semi_implicit_euler", sc.dt)
-    assert row["pass"] is False and row["first_step"] == 1
-    assert row["phase"] == "flight" and row["component"] == "y"
+    assert row.passed is False and row.details["first_step"] == 1
+    assert row.details["phase"] == "flight" and row.details["component"] == "y"
 
 
 def _box_window(name="box_drop", steps=2500):
@@ -145,7 +146,7 @@ def test_the_plain_seed_box_passes():
     the mistakes', not the copy's)."""
     sc, z0 = _box_window()
     row = check_step(sc, seed_box.run(sc, z0, sc.steps), "semi_implicit_euler", sc.dt)
-    assert row["pass"] is True, (row["first_step"], row["phase"], row["component"])
+    assert row.passed is True, (row.details["first_step"], row.details["phase"], row.details["component"])
 
 
 @pytest.mark.parametrize("mistake, phase_start, component", [
@@ -158,9 +159,9 @@ def test_the_plain_seed_box_passes():
 def test_seed_box_mistakes_fail(mistake, phase_start, component):
     sc, z0 = _box_window()
     row = check_step(sc, seed_box.run(sc, z0, sc.steps, **mistake), "semi_implicit_euler", sc.dt)
-    assert row["pass"] is False
-    assert row["phase"].startswith(phase_start), row["phase"]
-    assert row["component"] == component, row["component"]
+    assert row.passed is False
+    assert row.details["phase"].startswith(phase_start), row.details["phase"]
+    assert row.details["component"] == component, row.details["component"]
 
 
 def test_friction_on_com_velocity_shows_while_sliding_and_turning():
@@ -169,7 +170,7 @@ def test_friction_on_com_velocity_shows_while_sliding_and_turning():
     z0 = initial_state(sc)
     row = check_step(sc, seed_box.run(sc, z0, sc.steps, friction_at_com=True),
                      "semi_implicit_euler", sc.dt)
-    assert row["pass"] is False and "sliding" in row["phase"] and row["component"] == "vx"
+    assert row.passed is False and "sliding" in row.details["phase"] and row.details["component"] == "vx"
 
 
 # A CSV of 10 significant digits (custom_sim.write_csv, "%.10g"): half a unit in the tenth digit.
@@ -185,13 +186,13 @@ def test_states_read_from_text_hold_to_their_rounding(tmp_path, name, integrator
     traj = custom_sim.simulate(sc)
     custom_sim.write_csv(traj, tmp_path / "t.csv")
     states = np.loadtxt(tmp_path / "t.csv", delimiter=",", skiprows=1)[:, 1:7]  # row 0: t = 0
-    assert check_step(sc, states, integrator, sc.dt)["pass"] is False  # beyond double round-off
-    assert check_step(sc, states, integrator, sc.dt, input_rtol=CSV_RTOL)["pass"] is True
+    assert check_step(sc, states, integrator, sc.dt).passed is False  # beyond double round-off
+    assert check_step(sc, states, integrator, sc.dt, input_rtol=CSV_RTOL).passed is True
     if sc.body.shape != "point":
         props = custom_sim.mass_properties(sc.body)
         wrong, _ = run_custom(sc, dataclasses.replace(props, inertia=1.1 * props.inertia))
         rounded = np.array([[float(f"{v:.10g}") for v in z] for z in wrong])
-        assert check_step(sc, rounded, integrator, sc.dt, input_rtol=CSV_RTOL)["pass"] is False
+        assert check_step(sc, rounded, integrator, sc.dt, input_rtol=CSV_RTOL).passed is False
 
 
 def test_bound_is_tight_a_part_per_billion_in_k_fails():
@@ -201,4 +202,4 @@ def test_bound_is_tight_a_part_per_billion_in_k_fails():
     off = dataclasses.replace(sc, contact=dataclasses.replace(sc.contact, k=sc.contact.k * (1 + 1e-9)))
     states, _ = run_custom(off)
     row = check_step(sc, states, "semi_implicit_euler", sc.dt)
-    assert row["pass"] is False and row["phase"].startswith(("contact", "touchdown"))
+    assert row.passed is False and row.details["phase"].startswith(("contact", "touchdown"))

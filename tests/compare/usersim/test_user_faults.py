@@ -58,23 +58,23 @@ def run_cli(argv, capsys):
 
 def test_a_failed_check_without_an_angle_tolerance_prints_its_position():
     """The summary line crashed formatting None (contact on point_drop has no angle tolerance)."""
-    row = {"name": "point_drop", "pass": False, "checks": [
-        {"name": "contact", "integrator": "semi_implicit_euler", "position_error_max": 0.18,
-         "angle_error_max": 0.0, "tolerance_position": 1.6e-4, "tolerance_angle": None, "pass": False,
-         "reason": "r"}]}
+    from compare.checks.row import CheckRow
+    contact = CheckRow("contact", "", "semi_implicit_euler", position_error_max=0.18, angle_error_max=0.0,
+                       tolerance_position=1.6e-4, passed=False, reason="r")
+    row = {"name": "point_drop", "pass": False, "checks": [contact.to_json()]}
     line = verdict_line(row)
     assert "FAIL" in line and "position 1.800e-01 m (tolerance 1.600e-04 m)" in line and "angle" not in line
 
 
 def test_a_fail_in_a_velocity_component_names_the_component_and_value():
-    from compare.checks.step_check import check_step, split_arrays
+    from compare.checks.step_check import check_step
     from custom_sim import simulate
 
     scene = dataclasses.replace(load("box_slide"), duration=0.01)
     states = simulate(scene).states()
     states[50:, 3] += 1e-6          # vx off from step 50 on: position and angle stay within tolerance
-    row, _ = split_arrays(check_step(scene, states, scene.integrator, scene.dt))
-    assert row["pass"] is False
+    row = check_step(scene, states, scene.integrator, scene.dt)
+    assert row.passed is False
     text = failure_text(row)
     assert "vx off by 1.000e-06 at step 50" in text, text
 
@@ -94,11 +94,11 @@ def test_a_declared_unknown_integrator_is_judged_where_no_integrator_is_needed(t
 
     sim = load_simulator(write(tmp_path, 'INTEGRATOR = "other:ode23"\n') + ":step")
     result = run_scenario(short, sim)
-    rows = {c["name"]: c for c in result.checks}
+    rows = {c.name: c for c in result.checks}
     for name in ("identical", "step"):
-        assert rows[name]["pass"] is None and rows[name]["position_error_max"] is None, rows[name]
-    assert all(c["integrator"] == "other:ode23" for c in result.checks if c["integrator"]), result.checks
-    assert {c["name"] for c in result.not_judged} >= {"identical", "step", "dynamics"}
+        assert rows[name].passed is None and rows[name].position_error_max is None, rows[name]
+    assert all(c.integrator == "other:ode23" for c in result.checks if c.integrator), result.checks
+    assert {c.name for c in result.not_judged} >= {"identical", "step", "dynamics"}
 
 
 def test_checks_follow_the_integrator_the_simulator_declares():
@@ -110,12 +110,12 @@ def test_checks_follow_the_integrator_the_simulator_declares():
     scene = dataclasses.replace(load("point_drop"), duration=0.6)
     sim = load_simulator(str(ROOT / "tests" / "outsiders" / "oo_rk4.py") + ":step")
     result = run_scenario(scene, sim)
-    rows = {c["name"]: c for c in result.checks}
-    assert all(c["integrator"] == "rk4" for c in result.checks if c["integrator"]), result.checks
-    assert rows["contact"]["pass"] is True, (rows["contact"]["position_error_max"], rows["contact"]["reason"])
-    assert rows["identical"]["pass"] is True and rows["step"]["pass"] is True
+    rows = {c.name: c for c in result.checks}
+    assert all(c.integrator == "rk4" for c in result.checks if c.integrator), result.checks
+    assert rows["contact"].passed is True, (rows["contact"].position_error_max, rows["contact"].reason)
+    assert rows["identical"].passed is True and rows["step"].passed is True
     # another simulator's distance to the converged solution is model and integration together
-    assert "model and integration together" in rows["reference"]["isolates"], rows["reference"]
+    assert "model and integration together" in rows["reference"].isolates, rows["reference"]
 
 
 # --- 2. the user's code cannot end, hang or steer the harness --------------------------------
@@ -325,10 +325,10 @@ def test_a_step_refusing_the_contact_variant_leaves_that_check_not_judged(tmp_pa
         """) + ":step"
     scene = dataclasses.replace(load("point_drop"), duration=0.3)
     result = run_scenario(scene, load_simulator(spec))
-    rows = {c["name"]: c for c in result.checks}
+    rows = {c.name: c for c in result.checks}
     assert result.error is None
-    assert rows["contact"]["pass"] is None and "only the compression damping law is written" in rows["contact"]["reason"]
-    assert rows["identical"]["pass"] is True and rows["step"]["pass"] is True
+    assert rows["contact"].passed is None and "only the compression damping law is written" in rows["contact"].reason
+    assert rows["identical"].passed is True and rows["step"].passed is True
 
 
 # --- 5. files and values are read as written -------------------------------------------------
@@ -401,10 +401,10 @@ def test_contact_under_a_declared_integrator_fails_a_stiffness_mistake(tmp_path,
     sim = load_simulator(_stiffer(tmp_path, declared))
     states = run_user(sim, contact_scene(scene)).states()
     row = check_contact(scene, states, sim.integrator_for(scene))
-    assert row["pass"] is False, (row["position_error_max"], row["tolerance_position"], row["reason"])
+    assert row.passed is False, (row.position_error_max, row.tolerance_position, row.reason)
     honest = load_simulator(str(ROOT / "tests" / "outsiders" / "oo_rk4.py") + ":step")
     row = check_contact(scene, run_user(honest, contact_scene(scene)).states(), declared.split('"')[1])
-    assert row["pass"] is True, (row["position_error_max"], row["tolerance_position"], row["reason"])
+    assert row.passed is True, (row.position_error_max, row.tolerance_position, row.reason)
 
 
 def test_dynamics_with_a_files_rounding_still_fails_a_mistake(tmp_path):
@@ -424,5 +424,5 @@ def test_dynamics_with_a_files_rounding_still_fails_a_mistake(tmp_path):
                    fmt="%.6f", delimiter=",", header="t,x,y,theta,vx,vy,omega", comments="")
         run = run_user(load_sim(trajectories=str(folder)), scene)
         rows[name] = check_dynamics(scene, run.states(), scene.integrator, scene.dt, run.meta["rounding"])
-    assert rows["right"]["pass"] is True, rows["right"]["reason"]
-    assert rows["wrong"]["pass"] is False, (rows["wrong"]["position_error_max"], rows["wrong"]["tolerance_position"])
+    assert rows["right"].passed is True, rows["right"].reason
+    assert rows["wrong"].passed is False, (rows["wrong"].position_error_max, rows["wrong"].tolerance_position)

@@ -274,12 +274,12 @@ def rounded_folder(folder, scene, fmt, states=None, time_fmt=None):
 
 def checked(folder, scene):
     from compare.checks.identical_check import check_identical
-    from compare.checks.step_check import check_step, split_arrays
+    from compare.checks.step_check import check_step
 
     traj = run_user(load_simulator(trajectories=folder), scene)
     rounding = traj.meta["rounding"]
     same = check_identical(scene, traj.states(), traj.integrator, scene.dt, rounding)
-    step, _ = split_arrays(check_step(scene, traj.states(), traj.integrator, scene.dt, rounding=rounding))
+    step = check_step(scene, traj.states(), traj.integrator, scene.dt, rounding=rounding)
     return same, step, rounding
 
 
@@ -299,9 +299,9 @@ def test_a_correct_csv_written_with_fixed_decimals_or_few_digits_passes(tmp_path
     scene = dataclasses.replace(load(name), duration=ROUNDED_SCENES[name])
     same, step, rounding = checked(rounded_folder(tmp_path / "runs", scene, fmt), scene)
     assert rounding == Rounding(kind, digits)
-    assert same["pass"] is True, same
-    assert step["pass"] is True, step
-    assert rounding.describe() in same["reason"] and rounding.describe() in step["reason"]
+    assert same.passed is True, same
+    assert step.passed is True, step
+    assert rounding.describe() in same.reason and rounding.describe() in step.reason
 
 
 @pytest.mark.parametrize("fmt", ["%.17g", "%.6f"])
@@ -311,7 +311,7 @@ def test_a_wrong_simulator_still_fails_whatever_the_digits(tmp_path, fmt):
     wrong = simulate(dataclasses.replace(scene, g=scene.g * 1.01)).states()
     same, step, rounding = checked(rounded_folder(tmp_path / "runs", scene, fmt, states=wrong), scene)
     assert (rounding is None) == (fmt == "%.17g")
-    assert same["pass"] is False and step["pass"] is False, (same, step)
+    assert same.passed is False and step.passed is False, (same, step)
 
 
 def test_rounding_coarser_than_the_motion_is_not_judged(tmp_path):
@@ -321,8 +321,8 @@ def test_rounding_coarser_than_the_motion_is_not_judged(tmp_path):
     same, step, rounding = checked(rounded_folder(tmp_path / "runs", scene, "%.1f", time_fmt="%.17g"), scene)
     assert rounding.kind == "decimals" and rounding.digits == 1
     for row in (same, step):
-        assert row["pass"] is None and row["reason"].startswith("not judged") and "rounding" in row["reason"], row
-        assert row["tolerance_position"] is None
+        assert row.passed is None and row.reason.startswith("not judged") and "rounding" in row.reason, row
+        assert row.tolerance_position is None
 
 
 def test_the_rounding_is_read_from_the_text():
@@ -363,4 +363,4 @@ def test_a_coarse_file_still_fails_where_it_is_off_beyond_its_rounding(tmp_path)
     wrong = simulate(scene).states()
     wrong[:, 0] += np.arange(len(wrong)) * 1.0
     same, step, _ = checked(rounded_folder(tmp_path / "runs", scene, "%.1f", states=wrong, time_fmt="%.17g"), scene)
-    assert same["pass"] is False and step["pass"] is False, (same, step)
+    assert same.passed is False and step.passed is False, (same, step)

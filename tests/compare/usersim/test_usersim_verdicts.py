@@ -27,8 +27,8 @@ def identical(sim, scene):
 def test_the_seed_style_simulator_is_identical_to_custom_sim(name):
     scene = load(name)
     row, _ = identical(SEED, scene)
-    assert row["pass"] is True, (row["position_error_max"], row["tolerance_position"], row["reason"])
-    assert row["name"] == "identical" and row["integrator"] == scene.integrator
+    assert row.passed is True, (row.position_error_max, row.tolerance_position, row.reason)
+    assert row.name == "identical" and row.integrator == scene.integrator
 
 
 @pytest.mark.parametrize("name", builtin_names())
@@ -76,14 +76,14 @@ def test_a_model_difference_of_one_part_in_1e8_fails():
             from compare.usersim.loader import UserRun
             return UserRun(np.array(out), None, 0.0, s.integrator)
     row, _ = identical(Heavier(), scene)
-    assert row["pass"] is False and row["position_error_max"] > 3 * row["tolerance_position"], row
+    assert row.passed is False and row.position_error_max > 3 * row.tolerance_position, row
 
 
 def test_an_integrator_the_harness_does_not_know_is_not_judged():
     scene = dataclasses.replace(load("box_slide"), duration=0.01)
     states = run_user(SEED, scene).states()
     row = check_identical(scene, states, "verlet", scene.dt)
-    assert row["pass"] is None and "verlet" in row["reason"] and row["tolerance_position"] is None
+    assert row.passed is None and "verlet" in row.reason and row.tolerance_position is None
 
 
 @pytest.fixture(scope="module")
@@ -96,7 +96,7 @@ def buggy_box_drop():
 def test_the_buggy_copy_fails_identical(buggy_box_drop):
     scene, traj, _ = buggy_box_drop
     row = check_identical(scene, traj.states(), traj.integrator, scene.dt)
-    assert row["pass"] is False and row["position_error_max"] > 1e-3
+    assert row.passed is False and row.position_error_max > 1e-3
 
 
 def test_the_diagnosis_names_both_mistakes(buggy_box_drop):
@@ -140,7 +140,7 @@ def test_explicit_euler_in_disguise_is_named(tmp_path):
     sim = load_simulator(f"{path}:step")
     scene = dataclasses.replace(load("box_slide"), duration=0.05)
     traj = run_user(sim, scene)
-    assert check_identical(scene, traj.states(), traj.integrator, scene.dt)["pass"] is False
+    assert check_identical(scene, traj.states(), traj.integrator, scene.dt).passed is False
     assert [n["name"] for n in diagnosis(sim, scene, traj.states())["named"]] == ["explicit_euler_in_disguise"]
 
 
@@ -157,12 +157,12 @@ def test_csv_route_with_ten_digits(tmp_path):
                     "--digits", "10"], cwd=ROOT / "examples", check=True, capture_output=True)
     files = load_simulator(trajectories=str(tmp_path / "runs"))
     row, traj = identical(files, scene)
-    assert traj.meta["rounding"] == Rounding("significant", 10) and row["pass"] is True, row
+    assert traj.meta["rounding"] == Rounding("significant", 10) and row.passed is True, row
     buggy = np.column_stack([traj.t, run_user(BUGGY, scene).states()])
     np.savetxt(tmp_path / "runs" / "box_drop.csv", buggy, delimiter=",", header="t,x,y,theta,vx,vy,omega",
                comments="", fmt="%.10g")
     row, _ = identical(files, scene)
-    assert row["pass"] is False
+    assert row.passed is False
 
 
 def test_an_unknown_integrator_is_not_diagnosed_but_said(tmp_path):
@@ -185,11 +185,11 @@ def test_an_unknown_integrator_is_still_compared(tmp_path):
     scene = dataclasses.replace(load("box_slide"), duration=0.05)
     result = run_scenario(scene, load_simulator(f"{path}:step"))
     assert result.error is None, result.error
-    rows = {c["name"]: c for c in result.checks}
-    assert rows["dynamics"]["integrator"] == "other:verlet" and rows["dynamics"]["pass"] is None
-    assert rows["dynamics"]["position_error_max"] < 1e-3   # semi-implicit Euler against RK4 over 0.05 s
-    assert rows["reference"]["position_error_max"] is not None and rows["native"]["position_error_max"] is not None
-    assert rows["step"]["pass"] is None and rows["identical"]["pass"] is None
+    rows = {c.name: c for c in result.checks}
+    assert rows["dynamics"].integrator == "other:verlet" and rows["dynamics"].passed is None
+    assert rows["dynamics"].position_error_max < 1e-3   # semi-implicit Euler against RK4 over 0.05 s
+    assert rows["reference"].position_error_max is not None and rows["native"].position_error_max is not None
+    assert rows["step"].passed is None and rows["identical"].passed is None
 
 
 def test_validate_command_exit_status(tmp_path, capsys):
