@@ -43,6 +43,7 @@ import math
 
 from numba import njit
 
+from .forces import rotation
 from .model import SIGN
 
 # consecutive flips that make chatter (even: the window compares like signs); short enough to
@@ -61,22 +62,30 @@ SLIP, NORMAL = 1.0, 2.0    # watch[p, FLAG]: which velocity of point p chattered
 QUANTITY = {SLIP: "slip velocity", NORMAL: "normal velocity"}
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def chattering_point(model, points, z, watch):
     """Update the tracker watch (n, WATCH_COLUMNS) with state z after a step; returns the
-    index of a contact point that chatters (its FLAG set to SLIP or NORMAL), or -1.
+    index of a contact point that chatters (its FLAG set to SLIP or NORMAL), or -1."""
+    cs, sn = rotation(model, z[2])
+    return chattering_point_at(model, points, z, cs, sn, watch)
+
+
+@njit(cache=True, error_model="numpy")
+def chattering_point_at(model, points, z, cs, sn, watch):
+    """chattering_point() with the contact points' turn (cs, sn) at z given (the explicit loop
+    computes it once per state, for this and for the next step's forces). z: an array or a tuple.
 
     Per point and quantity q (0: slip, 1: normal): the previous value (column q), the run of
     flips (2 + q) and the size at the start of the current window (4 + q). Written as one loop
     without a helper function: a call per quantity cost 100 ns a step, the loop 3 ns."""
-    theta, vx, vy, om = z[2], z[3], z[4], z[5]
+    vx, vy, om = z[3], z[4], z[5]
     saturated = math.inf                 # the slip speed above which friction is saturated
     if model.friction:
         saturated = 0.0 if model.friction_law == SIGN else 1.0 / model.alpha
-    cs, sn = 1.0, 0.0
-    if model.points_rotate:
-        cs, sn = math.cos(theta), math.sin(theta)
-    for p in range(points.shape[0]):
+    flagged = -1
+    p = -1
+    while p + 1 < points.shape[0] and flagged < 0:
+        p += 1
         lx, ly = points[p, 0], points[p, 1]
         rx, ry = cs * lx - sn * ly, sn * lx + cs * ly
         touching = z[1] + ry < 0.0
@@ -86,7 +95,9 @@ def chattering_point(model, points, z, watch):
             for c in (PREV_SLIP, PREV_NORMAL, RUN_SLIP, RUN_NORMAL):
                 watch[p, c] = 0.0
             continue
-        for q in range(2):
+        q = -1
+        while q < 1 and flagged < 0:
+            q += 1
             v = vx - om * ry if q == 0 else vy + om * rx
             prev = watch[p, PREV_SLIP + q]
             watch[p, PREV_SLIP + q] = v
@@ -106,9 +117,10 @@ def chattering_point(model, points, z, watch):
                 # condition 2: not decayed, or (the slip) saturated at both ends
                 if abs(v) >= NO_DECAY * start or (q == 0 and min(abs(v), start) >= saturated):
                     watch[p, FLAG] = SLIP if q == 0 else NORMAL
-                    return p
+                    flagged = p
+                    continue
                 watch[p, START_SLIP + q] = abs(v)   # decaying: a stable mode; watch the next window
-    return -1
+    return flagged
 
 
 def unstable_law(scene, integrator: str | None = None) -> str | None:

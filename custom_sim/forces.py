@@ -27,12 +27,15 @@ model (model.py), one predictable branch per point: the seed's law is always the
 
 Compiling: the functions of scalars (rotation, tanh, normal_force, the laws' signs) are plain
 compiled functions, which LLVM inlines into their callers: numba compiles each once, instead of
-once per call site as with inline="always" (a quarter of the first run's compile). The ones
-that take arrays keep inline="always": a call that passes arrays counts references to them
-(with every function plain, a step took 1.3 to 2.1 times as long). point_load is inlined too:
-with every law's branch it outgrew LLVM's inlining threshold, and a call per point kept those
-reference counts inside RK4's stage loop (a quarter slower). The laws that divide compile with
-error_model="numpy": Python's check of a zero divisor adds a raise to the loop, with the same cost.
+once per call site as with inline="always" (a quarter of the first run's compile). point_load
+is inlined by numba (inline="always"): with every law's branch it outgrew LLVM's inlining
+threshold. A function that takes arrays increfs them on entry and decrefs them on exit, two
+atomic operations (some 5 ns each), unless numba's pruner removes the pair, which it does only
+where the function has one way out: no `return` and no `break` inside a loop (chatter.py and
+the explicit loop stop with a `while` condition instead), and no raise (error_model="numpy":
+Python's check of a zero divisor is a raise). accelerations_at is inlined (inline="always") into
+the explicit steps, which are plain functions: inlined into the loop, its array alias was
+counted at every step (the pruner does not follow it across the RK4/Euler branch).
 """
 from __future__ import annotations
 
@@ -176,11 +179,19 @@ def normal_force_slopes(model, d, vcy):
 @njit(cache=True, inline="always")
 def accelerations(model, points, z, fx, fy, tau):
     """(ax, ay, alpha_theta) in m/s^2 and rad/s^2 at state z, with (fx N, fy N, tau N m) applied."""
-    theta, vx, vy, om = z[2], z[3], z[4], z[5]
+    cs, sn = rotation(model, z[2])
+    return accelerations_at(model, points, z, cs, sn, fx, fy, tau)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def accelerations_at(model, points, z, cs, sn, fx, fy, tau):
+    """accelerations() with the contact points' turn (cs, sn) = rotation(model, z[2]) given: the
+    explicit loop computes it once per state, for this and for the chatter check. z: the state
+    as an array or a tuple."""
+    vx, vy, om = z[3], z[4], z[5]
     if model.gravity:
         fy -= model.g / model.inv_mass
     if model.contact:
-        cs, sn = rotation(model, theta)
         for i in range(points.shape[0]):
             lx, ly = points[i, 0], points[i, 1]
             rx, ry = cs * lx - sn * ly, sn * lx + cs * ly  # r = R(theta) l
