@@ -70,7 +70,7 @@ def chattering_point(model, points, z, watch):
     return chattering_point_at(model, points, z, cs, sn, watch)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def chattering_point_at(model, points, z, cs, sn, watch):
     """chattering_point() with the contact points' turn (cs, sn) at z given (the explicit loop
     computes it once per state, for this and for the next step's forces). z: an array or a tuple.

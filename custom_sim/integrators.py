@@ -56,7 +56,7 @@ INTEGRATORS = {
 }
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def euler_state(model, points, z, cs, sn, h, fx, fy, tau, semi):
     """One step of explicit Euler (semi False) or semi-implicit Euler (semi True) from the state
     z (a tuple), the contact points turned by (cs, sn) = rotation(model, z[2]); returns the new
@@ -346,7 +346,9 @@ def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard
         cs, sn = rotation(model, state[2])
         if record:
             store(out[i], state)
-        if not is_healthy(state, guard) or (watching and chattering_point_at(model, points, state, cs, sn, watch) >= 0):
+        if not is_healthy(state, guard):
+            stopped = i + 1
+        elif watching and chattering_point_at(model, points, state, cs, sn, watch) >= 0:
             stopped = i + 1
     store(z, state)
     counters[FORCE_EVALS] += evals
