@@ -58,6 +58,7 @@ NO_DECAY = 1.0 - 1e-3  # over CHATTER_STEPS: a stable mode |lambda| < 1 - 1.3e-4
 # columns of the tracker `watch` (one row per contact point)
 PREV_SLIP, PREV_NORMAL, RUN_SLIP, RUN_NORMAL, START_SLIP, START_NORMAL, FLAG, TOUCHED = range(8)
 WATCH_COLUMNS = 8
+CLEARED = -1.0   # watch[p, TOUCHED]: in the air since the row was cleared (0.0: in the air, 1.0: touching)
 SLIP, NORMAL = 1.0, 2.0    # watch[p, FLAG]: which velocity of point p chattered
 QUANTITY = {SLIP: "slip velocity", NORMAL: "normal velocity"}
 
@@ -83,21 +84,23 @@ def chattering_point_at(model, points, z, cs, sn, watch):
     if model.friction:
         saturated = 0.0 if model.friction_law == SIGN else 1.0 / model.alpha
     flagged = -1
-    p = -1
-    while p + 1 < points.shape[0] and flagged < 0:
-        p += 1
+    for p in range(points.shape[0]):
+        if flagged >= 0:
+            continue  # the run stops at this step: the other points are left as they were
         lx, ly = points[p, 0], points[p, 1]
         rx, ry = cs * lx - sn * ly, sn * lx + cs * ly
         touching = z[1] + ry < 0.0
-        touched = watch[p, TOUCHED] > 0.0
-        watch[p, TOUCHED] = 1.0 if touching else 0.0
-        if not touching and not touched:  # two steps in the air: no contact force, nothing flips
-            for c in (PREV_SLIP, PREV_NORMAL, RUN_SLIP, RUN_NORMAL):
-                watch[p, c] = 0.0
+        if not touching and watch[p, TOUCHED] <= 0.0:
+            # two steps in the air: no contact force, nothing flips; the row is cleared once
+            if watch[p, TOUCHED] == 0.0:
+                for c in (PREV_SLIP, PREV_NORMAL, RUN_SLIP, RUN_NORMAL):
+                    watch[p, c] = 0.0
+                watch[p, TOUCHED] = CLEARED
             continue
-        q = -1
-        while q < 1 and flagged < 0:
-            q += 1
+        watch[p, TOUCHED] = 1.0 if touching else 0.0
+        for q in range(2):
+            if flagged >= 0:
+                continue
             v = vx - om * ry if q == 0 else vy + om * rx
             prev = watch[p, PREV_SLIP + q]
             watch[p, PREV_SLIP + q] = v

@@ -260,16 +260,18 @@ def rk4_step(model, points, z, h, fx, fy, tau, counters, work):
 def is_healthy(z, guard):
     """False once the state z (an array or a tuple) has blown up: non-finite, beyond the position
     or speed limit, or with more energy than the scene could ever have. guard = (mass kg,
-    inertia kg m^2, g m/s^2, lowest COM height m, energy limit J, position limit m, speed limit m/s)."""
+    inertia kg m^2, g m/s^2, lowest COM height m, energy limit J, position limit m, speed limit m/s).
+
+    The limits are finite (blowup_guard's), so a NaN or infinite position or velocity fails its
+    limit's comparison: only theta has no limit to fail. With no energy limit (inf: under applied
+    input) the energy of a state within the limits is finite, and below it."""
     x, y, theta, vx, vy, om = z[0], z[1], z[2], z[3], z[4], z[5]
-    if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(theta)
-            and np.isfinite(vx) and np.isfinite(vy) and np.isfinite(om)):
-        return False
     mass, inertia, g, y_low, energy_limit, position_limit, speed_limit = guard
-    if abs(x) > position_limit or abs(y) > position_limit:
+    if not (abs(x) <= position_limit and abs(y) <= position_limit and abs(vx) <= speed_limit
+            and abs(vy) <= speed_limit and abs(om) <= speed_limit and np.isfinite(theta)):
         return False
-    if abs(vx) > speed_limit or abs(vy) > speed_limit or abs(om) > speed_limit:
-        return False
+    if energy_limit == np.inf:
+        return True
     # kinetic + gravitational energy above the lowest pose: never above its start without input
     energy = 0.5 * mass * (vx * vx + vy * vy) + 0.5 * inertia * om * om + mass * g * (y - y_low)
     return energy <= energy_limit
@@ -333,9 +335,8 @@ def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard
     cs, sn = rotation(model, state[2])
     evals = 0
     stopped = -1
-    i = -1
-    while i + 1 < n and stopped < 0:
-        i += 1
+    i = 0
+    while i < n and stopped < 0:
         fx, fy, tau = applied(ext, i)
         if method == RK4:
             state = rk4_state(model, points, state, cs, sn, h, fx, fy, tau)
@@ -350,6 +351,7 @@ def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard
             stopped = i + 1
         elif watching and chattering_point_at(model, points, state, cs, sn, watch) >= 0:
             stopped = i + 1
+        i += 1
     store(z, state)
     counters[FORCE_EVALS] += evals
     return stopped
