@@ -192,18 +192,22 @@ def accelerations_at(model, points, z, cs, sn, fx, fy, tau):
     if model.gravity:
         fy -= model.g / model.inv_mass
     if model.contact:
+        # the rolling law's sign depends on omega alone: taken once here, and only where the
+        # scene has rolling resistance (left in the loop, the compiler computed it before the
+        # loop at every evaluation, touching or not, rolling or not)
+        turn = roll_sign(model, om) if model.rolling else 0.0
         for i in range(points.shape[0]):
             lx, ly = points[i, 0], points[i, 1]
             rx, ry = cs * lx - sn * ly, sn * lx + cs * ly  # r = R(theta) l
             d = -(z[1] + ry)
             if d <= 0.0:
                 continue  # free flight: no force, no damping in the air
-            ft, fn, roll = point_load(model, rx, ry, d, vx, vy, om)
+            ft, fn, _ = point_load(model, rx, ry, d, vx, vy, om)
             fx += ft
             fy += fn
             tau += rx * fn - ry * ft
             if model.rolling:
-                tau -= roll
+                tau -= model.mu_roll * fn * turn   # point_load's rolling torque
     return fx * model.inv_mass, fy * model.inv_mass, tau * model.inv_inertia
 
 

@@ -335,9 +335,12 @@ def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard
     cs, sn = rotation(model, state[2])
     evals = 0
     stopped = -1
+    per_step = ext.shape[0] > 1        # else the applied load is read once
+    fx = fy = tau = 0.0
     i = 0
     while i < n and stopped < 0:
-        fx, fy, tau = applied(ext, i)
+        if per_step or i == 0:
+            fx, fy, tau = applied(ext, i)
         if method == RK4:
             state = rk4_state(model, points, state, cs, sn, h, fx, fy, tau)
             evals += 4
