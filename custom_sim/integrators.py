@@ -309,18 +309,6 @@ def applied(ext, i):
     return ext[row, 0], ext[row, 1], ext[row, 2]
 
 
-@njit(cache=True, inline="always")
-def stops_after(model, points, z, i, out, record, guard, watch):
-    """Record the state after step i (0-based) in out[i] when record; True when the run must
-    stop there: blown up (is_healthy) or a contact point chattering (chatter.py)."""
-    if record:
-        for j in range(6):
-            out[i, j] = z[j]
-    if not is_healthy(z, guard):
-        return True
-    return watch.shape[0] == points.shape[0] and model.contact and chattering_point(model, points, z, watch) >= 0
-
-
 @njit(cache=True, error_model="numpy")
 def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard, watch):
     """integrate() for the methods that solve nothing: explicit and semi-implicit Euler, RK4.
@@ -365,9 +353,18 @@ def integrate_implicit(model, points, z, h, n, method, ext, out, counters, guard
     """integrate() for implicit Euler (method is IMPLICIT_EULER; kept for one signature)."""
     work = np.zeros((18, 6))
     record = out.shape[0] == n
-    for i in range(n):
+    watching = watch.shape[0] == points.shape[0] and model.contact
+    stopped = -1
+    i = 0
+    while i < n and stopped < 0:
         fx, fy, tau = applied(ext, i)
         implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work)
-        if stops_after(model, points, z, i, out, record, guard, watch):
-            return i + 1
-    return -1
+        cs, sn = rotation(model, z[2])
+        if record:
+            store(out[i], z)
+        if not is_healthy(z, guard):
+            stopped = i + 1
+        elif watching and chattering_point_at(model, points, z, cs, sn, watch) >= 0:
+            stopped = i + 1
+        i += 1
+    return stopped
