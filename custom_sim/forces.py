@@ -203,11 +203,12 @@ def accelerations_at(model, points, z, cs, sn, fx, fy, tau):
             if d <= 0.0:
                 continue  # free flight: no force, no damping in the air
             ft, fn, _ = point_load(model, rx, ry, d, vx, vy, om)
+            roll = model.mu_roll * fn * turn if model.rolling else 0.0   # point_load's rolling torque
             fx += ft
             fy += fn
             tau += rx * fn - ry * ft
             if model.rolling:
-                tau -= model.mu_roll * fn * turn   # point_load's rolling torque
+                tau -= roll
     return fx * model.inv_mass, fy * model.inv_mass, tau * model.inv_inertia
 
 

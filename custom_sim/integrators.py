@@ -57,37 +57,35 @@ INTEGRATORS = {
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def euler_state(model, points, z, cs, sn, h, fx, fy, tau, semi):
-    """One step of explicit Euler (semi False) or semi-implicit Euler (semi True) from the state
-    z (a tuple), the contact points turned by (cs, sn) = rotation(model, z[2]); returns the new
-    state. Both take the acceleration at the start of the step; they differ only in which
-    update comes first, so one body serves both (one inlined copy of the force law instead of two)."""
-    x, y, theta, vx, vy, om = z
+def euler_step_at(model, points, z, cs, sn, h, fx, fy, tau, semi):
+    """One step of explicit Euler (semi False) or semi-implicit Euler (semi True) of the state
+    array z, in place, the contact points turned by (cs, sn) = rotation(model, z[2]). Both take
+    the acceleration at the start of the step; they differ only in which update comes first,
+    so one body serves both (one inlined copy of the force law instead of two)."""
     ax, ay, aw = accelerations_at(model, points, z, cs, sn, fx, fy, tau)
     if semi:
         # seed Algorithm 1, lines 7-8: v <- v + (F/m) dt, then p <- p + v dt
-        vx += h * ax
-        vy += h * ay
-        om += h * aw
-        x += h * vx
-        y += h * vy
-        theta += h * om
+        z[3] += h * ax
+        z[4] += h * ay
+        z[5] += h * aw
+        z[0] += h * z[3]
+        z[1] += h * z[4]
+        z[2] += h * z[5]
     else:
         # p <- p + v dt with the old velocity, then v <- v + (F/m) dt
-        x += h * vx
-        y += h * vy
-        theta += h * om
-        vx += h * ax
-        vy += h * ay
-        om += h * aw
-    return (x, y, theta, vx, vy, om)
+        z[0] += h * z[3]
+        z[1] += h * z[4]
+        z[2] += h * z[5]
+        z[3] += h * ax
+        z[4] += h * ay
+        z[5] += h * aw
 
 
 @njit(cache=True)
 def euler_step(model, points, z, h, fx, fy, tau, counters, semi):
-    """euler_state() on the array z, in place; counts its force evaluation."""
+    """euler_step_at() with the points' turn at z; counts its force evaluation."""
     cs, sn = rotation(model, z[2])
-    store(z, euler_state(model, points, as_state(z), cs, sn, h, fx, fy, tau, semi))
+    euler_step_at(model, points, z, cs, sn, h, fx, fy, tau, semi)
     counters[FORCE_EVALS] += 1
 
 
@@ -313,9 +311,12 @@ def applied(ext, i):
 def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard, watch):
     """integrate() for the methods that solve nothing: explicit and semi-implicit Euler, RK4.
 
-    The state is carried as a tuple of six numbers (kept in registers) and written back to z
-    at the end; the contact points' turn (cos, sin) is computed once per state, for the chatter
-    check after a step and the forces of the next."""
+    The state is carried as a tuple of six numbers (kept in registers; RK4's stages and the
+    checks read it), and the Euler methods step it in z, in place (euler_step_at: the seed's
+    lines, which compare/mutation edits). The contact points' turn (cos, sin) is computed once
+    per state, for the chatter check after a step and the forces of the next. The loop ends
+    by its condition, not by a `break` or `return` inside it (see forces.py: those keep
+    numba's reference counts of the arrays in the loop, two atomic operations each a step)."""
     semi = method == SEMI_IMPLICIT_EULER
     record = out.shape[0] == n
     watching = watch.shape[0] == points.shape[0] and model.contact
@@ -333,7 +334,10 @@ def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard
             state = rk4_state(model, points, state, cs, sn, h, fx, fy, tau)
             evals += 4
         else:
-            state = euler_state(model, points, state, cs, sn, h, fx, fy, tau, semi)
+            # the Euler methods step the array z in place, in the seed's own words
+            store(z, state)
+            euler_step_at(model, points, z, cs, sn, h, fx, fy, tau, semi)
+            state = as_state(z)
             evals += 1
         cs, sn = rotation(model, state[2])
         if record:
