@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from .chatter import chattering_point, chattering_point_at
+from .chatter import chattering_point_at
 from .filippov import jump_step
 from .forces import acceleration_jacobian, accelerations, accelerations_at, no_point, rotation
 from .implicit_residual import residual

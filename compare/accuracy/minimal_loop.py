@@ -70,17 +70,17 @@ def _advance_rk4(z, n, h, points, turning, inv_m, inv_i, g, k, c, linear, mu, al
         f1x, f1y, t1 = _forces(y, th, vx, vy, om, points, turning, g_weight, k, c, linear, mu, alpha,
                                mu_roll, sharp)
         a1x, a1y, a1w = f1x * inv_m, f1y * inv_m, t1 * inv_i
-        x2, y2, th2 = x + half * vx, y + half * vy, th + half * om
+        y2, th2 = y + half * vy, th + half * om           # x: no force depends on it
         vx2, vy2, om2 = vx + half * a1x, vy + half * a1y, om + half * a1w
         f2x, f2y, t2 = _forces(y2, th2, vx2, vy2, om2, points, turning, g_weight, k, c, linear, mu,
                                alpha, mu_roll, sharp)
         a2x, a2y, a2w = f2x * inv_m, f2y * inv_m, t2 * inv_i
-        x3, y3, th3 = x + half * vx2, y + half * vy2, th + half * om2
+        y3, th3 = y + half * vy2, th + half * om2
         vx3, vy3, om3 = vx + half * a2x, vy + half * a2y, om + half * a2w
         f3x, f3y, t3 = _forces(y3, th3, vx3, vy3, om3, points, turning, g_weight, k, c, linear, mu,
                                alpha, mu_roll, sharp)
         a3x, a3y, a3w = f3x * inv_m, f3y * inv_m, t3 * inv_i
-        x4, y4, th4 = x + h * vx3, y + h * vy3, th + h * om3
+        y4, th4 = y + h * vy3, th + h * om3
         vx4, vy4, om4 = vx + h * a3x, vy + h * a3y, om + h * a3w
         f4x, f4y, t4 = _forces(y4, th4, vx4, vy4, om4, points, turning, g_weight, k, c, linear, mu,
                                alpha, mu_roll, sharp)
