@@ -365,7 +365,7 @@ def integrate_implicit(model, points, z, h, n, method, ext, out, counters, guard
         implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work)
         cs, sn = rotation(model, z[2])
         if record:
-            store(out[i], z)
+            store(out[i], as_state(z))
         if not is_healthy(z, guard):
             stopped = i + 1
         elif watching and chattering_point_at(model, points, z, cs, sn, watch) >= 0:
