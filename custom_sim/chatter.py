@@ -21,6 +21,7 @@ import math
 
 from numba import njit
 
+from .forces import rotation
 from .model import SIGN
 
 # consecutive flips that make chatter (even: the window compares like signs); short enough to
@@ -35,36 +36,49 @@ NO_DECAY = 1.0 - 1e-3  # over CHATTER_STEPS: a stable mode |lambda| < 1 - 1.3e-4
 # columns of the tracker `watch` (one row per contact point)
 PREV_SLIP, PREV_NORMAL, RUN_SLIP, RUN_NORMAL, START_SLIP, START_NORMAL, FLAG, TOUCHED = range(8)
 WATCH_COLUMNS = 8
+CLEARED = -1.0   # watch[p, TOUCHED]: in the air since the row was cleared (0.0: in the air, 1.0: touching)
 SLIP, NORMAL = 1.0, 2.0    # watch[p, FLAG]: which velocity of point p chattered
 QUANTITY = {SLIP: "slip velocity", NORMAL: "normal velocity"}
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def chattering_point(model, points, z, watch):
     """Update the tracker watch (n, WATCH_COLUMNS) with state z after a step; returns the
-    index of a contact point that chatters (its FLAG set to SLIP or NORMAL), or -1.
+    index of a contact point that chatters (its FLAG set to SLIP or NORMAL), or -1."""
+    cs, sn = rotation(model, z[2])
+    return chattering_point_at(model, points, z, cs, sn, watch)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def chattering_point_at(model, points, z, cs, sn, watch):
+    """chattering_point() with the contact points' turn (cs, sn) at z given (the explicit loop
+    computes it once per state, for this and for the next step's forces). z: an array or a tuple.
 
     Per point and quantity q (0: slip, 1: normal): the previous value (column q), the run of
     flips (2 + q) and the size at the start of the current window (4 + q). One loop, no helper
     function per quantity (the cost: docs/stability.md#what-watching-costs)."""
-    theta, vx, vy, om = z[2], z[3], z[4], z[5]
+    vx, vy, om = z[3], z[4], z[5]
     saturated = math.inf                 # the slip speed above which friction is saturated
     if model.friction:
         saturated = 0.0 if model.friction_law == SIGN else 1.0 / model.alpha
-    cs, sn = 1.0, 0.0
-    if model.points_rotate:
-        cs, sn = math.cos(theta), math.sin(theta)
+    flagged = -1
     for p in range(points.shape[0]):
+        if flagged >= 0:
+            continue  # the run stops at this step: the other points are left as they were
         lx, ly = points[p, 0], points[p, 1]
         rx, ry = cs * lx - sn * ly, sn * lx + cs * ly
         touching = z[1] + ry < 0.0
-        touched = watch[p, TOUCHED] > 0.0
-        watch[p, TOUCHED] = 1.0 if touching else 0.0
-        if not touching and not touched:  # two steps in the air: no contact force, nothing flips
-            for c in (PREV_SLIP, PREV_NORMAL, RUN_SLIP, RUN_NORMAL):
-                watch[p, c] = 0.0
+        if not touching and watch[p, TOUCHED] <= 0.0:
+            # two steps in the air: no contact force, nothing flips; the row is cleared once
+            if watch[p, TOUCHED] == 0.0:
+                for c in (PREV_SLIP, PREV_NORMAL, RUN_SLIP, RUN_NORMAL):
+                    watch[p, c] = 0.0
+                watch[p, TOUCHED] = CLEARED
             continue
+        watch[p, TOUCHED] = 1.0 if touching else 0.0
         for q in range(2):
+            if flagged >= 0:
+                continue
             v = vx - om * ry if q == 0 else vy + om * rx
             prev = watch[p, PREV_SLIP + q]
             watch[p, PREV_SLIP + q] = v
@@ -84,9 +98,10 @@ def chattering_point(model, points, z, watch):
                 # condition 2: not decayed, or (the slip) saturated at both ends
                 if abs(v) >= NO_DECAY * start or (q == 0 and min(abs(v), start) >= saturated):
                     watch[p, FLAG] = SLIP if q == 0 else NORMAL
-                    return p
+                    flagged = p
+                    continue
                 watch[p, START_SLIP + q] = abs(v)   # decaying: a stable mode; watch the next window
-    return -1
+    return flagged
 
 
 def unstable_law(scene, integrator: str | None = None) -> str | None:

@@ -27,12 +27,17 @@ model (model.py), one predictable branch per point: the seed's law is always the
 
 Compiling: the functions of scalars (rotation, tanh, normal_force, the laws' signs) are plain
 compiled functions, which LLVM inlines into their callers: numba compiles each once, instead of
-once per call site as with inline="always" (a quarter of the first run's compile). The ones
-that take arrays keep inline="always": a call that passes arrays counts references to them
-(with every function plain, a step took 1.3 to 2.1 times as long). point_load is inlined too:
-with every law's branch it outgrew LLVM's inlining threshold, and a call per point kept those
-reference counts inside RK4's stage loop (a quarter slower). The laws that divide compile with
-error_model="numpy": Python's check of a zero divisor adds a raise to the loop, with the same cost.
+once per call site as with inline="always" (a quarter of the first run's compile). point_load
+is inlined by numba (inline="always"): with every law's branch it outgrew LLVM's inlining
+threshold. Arrays cost where they are passed: numba counts a reference to each array argument
+(an atomic increment and decrement, some 5 ns the pair) unless its pruner proves the pair
+useless, which it does only where the array's use has one way out: no `return` or `break`
+inside a loop (the explicit loop and chatter.py stop by a loop condition instead), and no call
+that stays a call in between. accelerations_at is inlined (inline="always") into the explicit
+step, whose loop counts no reference at all (it counted 16 a step, a third of box_drop's
+step, when its parts broke out of loops); the implicit step still counts some 66 a step, its
+Newton loop exiting from inside. The laws that divide compile with error_model="numpy":
+Python's check of a zero divisor adds a raise to the loop.
 """
 from __future__ import annotations
 
@@ -176,18 +181,31 @@ def normal_force_slopes(model, d, vcy):
 @njit(cache=True, inline="always")
 def accelerations(model, points, z, fx, fy, tau):
     """(ax, ay, alpha_theta) in m/s^2 and rad/s^2 at state z, with (fx N, fy N, tau N m) applied."""
-    theta, vx, vy, om = z[2], z[3], z[4], z[5]
+    cs, sn = rotation(model, z[2])
+    return accelerations_at(model, points, z, cs, sn, fx, fy, tau)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def accelerations_at(model, points, z, cs, sn, fx, fy, tau):
+    """accelerations() with the contact points' turn (cs, sn) = rotation(model, z[2]) given: the
+    explicit loop computes it once per state, for this and for the chatter check. z: the state
+    as an array or a tuple."""
+    vx, vy, om = z[3], z[4], z[5]
     if model.gravity:
         fy -= model.g / model.inv_mass
     if model.contact:
-        cs, sn = rotation(model, theta)
+        # the rolling law's sign depends on omega alone: taken once here, and only where the
+        # scene has rolling resistance (left in the loop, the compiler computed it before the
+        # loop at every evaluation, touching or not, rolling or not)
+        turn = roll_sign(model, om) if model.rolling else 0.0
         for i in range(points.shape[0]):
             lx, ly = points[i, 0], points[i, 1]
             rx, ry = cs * lx - sn * ly, sn * lx + cs * ly  # r = R(theta) l
             d = -(z[1] + ry)
             if d <= 0.0:
                 continue  # free flight: no force, no damping in the air
-            ft, fn, roll = point_load(model, rx, ry, d, vx, vy, om)
+            ft, fn, _ = point_load(model, rx, ry, d, vx, vy, om)
+            roll = model.mu_roll * fn * turn if model.rolling else 0.0   # point_load's rolling torque
             fx += ft
             fy += fn
             tau += rx * fn - ry * ft

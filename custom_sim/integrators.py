@@ -15,9 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from .chatter import chattering_point
+from .chatter import chattering_point_at
 from .filippov import jump_step
-from .forces import acceleration_jacobian, accelerations, no_point
+from .forces import acceleration_jacobian, accelerations, accelerations_at, no_point, rotation
 from .implicit_residual import residual
 from .linear3 import solve3
 
@@ -56,13 +56,13 @@ INTEGRATORS = {
 }
 
 
-@njit(cache=True, inline="always")
-def euler_step(model, points, z, h, fx, fy, tau, counters, semi):
-    """One step of explicit Euler (semi False) or semi-implicit Euler (semi True). Both take
+@njit(cache=True, error_model="numpy", inline="always")
+def euler_step_at(model, points, z, cs, sn, h, fx, fy, tau, semi):
+    """One step of explicit Euler (semi False) or semi-implicit Euler (semi True) of the state
+    array z, in place, the contact points turned by (cs, sn) = rotation(model, z[2]). Both take
     the acceleration at the start of the step; they differ only in which update comes first,
     so one body serves both (one inlined copy of the force law instead of two)."""
-    ax, ay, aw = accelerations(model, points, z, fx, fy, tau)
-    counters[FORCE_EVALS] += 1
+    ax, ay, aw = accelerations_at(model, points, z, cs, sn, fx, fy, tau)
     if semi:
         # seed Algorithm 1, lines 7-8: v <- v + (F/m) dt, then p <- p + v dt
         z[3] += h * ax
@@ -79,6 +79,26 @@ def euler_step(model, points, z, h, fx, fy, tau, counters, semi):
         z[3] += h * ax
         z[4] += h * ay
         z[5] += h * aw
+
+
+@njit(cache=True)
+def euler_step(model, points, z, h, fx, fy, tau, counters, semi):
+    """euler_step_at() with the points' turn at z; counts its force evaluation."""
+    cs, sn = rotation(model, z[2])
+    euler_step_at(model, points, z, cs, sn, h, fx, fy, tau, semi)
+    counters[FORCE_EVALS] += 1
+
+
+@njit(cache=True)
+def as_state(z):
+    """The array z (6,) as the tuple (x, y, theta, vx, vy, omega) the explicit steps take."""
+    return (z[0], z[1], z[2], z[3], z[4], z[5])
+
+
+@njit(cache=True)
+def store(row, state):
+    """row (6,) <- the state tuple."""
+    row[0], row[1], row[2], row[3], row[4], row[5] = state
 
 
 @njit(cache=True)
@@ -197,56 +217,61 @@ def jump_attempt(model, points, z0, zi, h, fx, fy, tau, counters, work, keep):
     return landed, extra
 
 
-@njit(cache=True)
-def rk4_step(model, points, z, h, fx, fy, tau, counters, work):
+@njit(cache=True, error_model="numpy")
+def rk4_state(model, points, z, cs, sn, h, fx, fy, tau):
     """z1 = z0 + h/6 (k1 + 2 k2 + 2 k3 + k4), k_s = f(z_s), f(z) = (v, a(z)), with the stage
-    states z_1 = z0, z_s = z0 + c_s h k_{s-1}, c = (1/2, 1/2, 1). Every index is a constant or a
-    loop counter over an array: no tuple indexed at run time (that compiles slowly)."""
-    z0 = work[0]
-    zs = work[1]
-    acc = work[2]
-    for j in range(6):
-        z0[j] = z[j]
-        zs[j] = z[j]
-        acc[j] = 0.0
+    states z_1 = z0, z_s = z0 + c_s h k_{s-1}, c = (1/2, 1/2, 1). z0: a tuple, its contact points
+    turned by (cs, sn) = rotation(model, z0[2]); returns z1."""
+    x0, y0, th0, vx0, vy0, om0 = z
+    x, y, th, vx, vy, om = z                           # the stage state z_s
+    k_x = k_y = k_th = k_vx = k_vy = k_om = 0.0        # k1 + 2 k2 + 2 k3 + k4, summed stage by stage
     for s in range(4):
-        ax, ay, aw = accelerations(model, points, zs, fx, fy, tau)
+        if s > 0:
+            cs, sn = rotation(model, th)
+        ax, ay, aw = accelerations_at(model, points, (x, y, th, vx, vy, om), cs, sn, fx, fy, tau)
         weight = 1.0 if s == 0 or s == 3 else 2.0
-        acc[0] += weight * zs[3]
-        acc[1] += weight * zs[4]
-        acc[2] += weight * zs[5]
-        acc[3] += weight * ax
-        acc[4] += weight * ay
-        acc[5] += weight * aw
+        k_x += weight * vx
+        k_y += weight * vy
+        k_th += weight * om
+        k_vx += weight * ax
+        k_vy += weight * ay
+        k_om += weight * aw
         if s < 3:
             ch = (1.0 if s == 2 else 0.5) * h
             # next stage: positions from this stage's velocities, then velocities from its a
-            zs[0] = z0[0] + ch * zs[3]
-            zs[1] = z0[1] + ch * zs[4]
-            zs[2] = z0[2] + ch * zs[5]
-            zs[3] = z0[3] + ch * ax
-            zs[4] = z0[4] + ch * ay
-            zs[5] = z0[5] + ch * aw
+            x, y, th = x0 + ch * vx, y0 + ch * vy, th0 + ch * om
+            vx, vy, om = vx0 + ch * ax, vy0 + ch * ay, om0 + ch * aw
+    w = h / 6.0
+    return (x0 + w * k_x, y0 + w * k_y, th0 + w * k_th, vx0 + w * k_vx, vy0 + w * k_vy, om0 + w * k_om)
+
+
+@njit(cache=True)
+def rk4_step(model, points, z, h, fx, fy, tau, counters, work):
+    """rk4_state() on the array z, in place; counts its four force evaluations. work: unused
+    (kept for one signature with implicit_euler_step)."""
+    cs, sn = rotation(model, z[2])
+    store(z, rk4_state(model, points, as_state(z), cs, sn, h, fx, fy, tau))
     counters[FORCE_EVALS] += 4
-    for j in range(6):
-        z[j] = z0[j] + h / 6.0 * acc[j]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def is_healthy(z, guard):
-    """False once the state has blown up: non-finite, beyond the position or speed limit, or
-    with more energy than the scene could ever have. guard = (mass kg, inertia kg m^2, g m/s^2,
-    lowest COM height m, energy limit J, position limit m, speed limit m/s)."""
-    for j in range(6):
-        if not np.isfinite(z[j]):
-            return False
+    """False once the state z (an array or a tuple) has blown up: non-finite, beyond the position
+    or speed limit, or with more energy than the scene could ever have. guard = (mass kg,
+    inertia kg m^2, g m/s^2, lowest COM height m, energy limit J, position limit m, speed limit m/s).
+
+    The limits are finite (blowup_guard's), so a NaN or infinite position or velocity fails its
+    limit's comparison: only theta has no limit to fail. With no energy limit (inf: under applied
+    input) the energy of a state within the limits is finite, and below it."""
+    x, y, theta, vx, vy, om = z[0], z[1], z[2], z[3], z[4], z[5]
     mass, inertia, g, y_low, energy_limit, position_limit, speed_limit = guard
-    if abs(z[0]) > position_limit or abs(z[1]) > position_limit:
+    if not (abs(x) <= position_limit and abs(y) <= position_limit and abs(vx) <= speed_limit
+            and abs(vy) <= speed_limit and abs(om) <= speed_limit and np.isfinite(theta)):
         return False
-    if abs(z[3]) > speed_limit or abs(z[4]) > speed_limit or abs(z[5]) > speed_limit:
-        return False
+    if energy_limit == np.inf:
+        return True
     # kinetic + gravitational energy above the lowest pose: never above its start without input
-    energy = 0.5 * mass * (z[3] * z[3] + z[4] * z[4]) + 0.5 * inertia * z[5] * z[5] + mass * g * (z[1] - y_low)
+    energy = 0.5 * mass * (vx * vx + vy * vy) + 0.5 * inertia * om * om + mass * g * (y - y_low)
     return energy <= energy_limit
 
 
@@ -275,40 +300,56 @@ def integrate(model, points, z, h, n, method, ext, out, counters, guard, watch) 
     return loop(model, points, z, h, n, method, ext, out, counters, guard, watch)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def applied(ext, i):
     """(Fx N, Fy N, tau N m) applied during step i: ext's row i, or its one row if constant."""
     row = i if ext.shape[0] > 1 else 0
     return ext[row, 0], ext[row, 1], ext[row, 2]
 
 
-@njit(cache=True, inline="always")
-def stops_after(model, points, z, i, out, record, guard, watch):
-    """Record the state after step i (0-based) in out[i] when record; True when the run must
-    stop there: blown up (is_healthy) or a contact point chattering (chatter.py)."""
-    if record:
-        for j in range(6):
-            out[i, j] = z[j]
-    if not is_healthy(z, guard):
-        return True
-    return watch.shape[0] == points.shape[0] and model.contact and chattering_point(model, points, z, watch) >= 0
-
-
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard, watch):
-    """integrate() for the methods that solve nothing: explicit and semi-implicit Euler, RK4."""
-    work = np.zeros((18, 6))
+    """integrate() for the methods that solve nothing: explicit and semi-implicit Euler, RK4.
+
+    The state is carried as a tuple of six numbers (kept in registers; RK4's stages and the
+    checks read it), and the Euler methods step it in z, in place (euler_step_at: the seed's
+    lines, which compare/mutation edits). The contact points' turn (cos, sin) is computed once
+    per state, for the chatter check after a step and the forces of the next. The loop ends
+    by its condition, not by a `break` or `return` inside it (see forces.py: those keep
+    numba's reference counts of the arrays in the loop, two atomic operations each a step)."""
     semi = method == SEMI_IMPLICIT_EULER
     record = out.shape[0] == n
-    for i in range(n):
-        fx, fy, tau = applied(ext, i)
+    watching = watch.shape[0] == points.shape[0] and model.contact
+    state = as_state(z)
+    cs, sn = rotation(model, state[2])
+    evals = 0
+    stopped = -1
+    per_step = ext.shape[0] > 1        # else the applied load is read once
+    fx = fy = tau = 0.0
+    i = 0
+    while i < n and stopped < 0:
+        if per_step or i == 0:
+            fx, fy, tau = applied(ext, i)
         if method == RK4:
-            rk4_step(model, points, z, h, fx, fy, tau, counters, work)
+            state = rk4_state(model, points, state, cs, sn, h, fx, fy, tau)
+            evals += 4
         else:
-            euler_step(model, points, z, h, fx, fy, tau, counters, semi)
-        if stops_after(model, points, z, i, out, record, guard, watch):
-            return i + 1
-    return -1
+            # the Euler methods step the array z in place, in the seed's own words
+            store(z, state)
+            euler_step_at(model, points, z, cs, sn, h, fx, fy, tau, semi)
+            state = as_state(z)
+            evals += 1
+        cs, sn = rotation(model, state[2])
+        if record:
+            store(out[i], state)
+        if not is_healthy(state, guard):
+            stopped = i + 1
+        elif watching and chattering_point_at(model, points, state, cs, sn, watch) >= 0:
+            stopped = i + 1
+        i += 1
+    store(z, state)
+    counters[FORCE_EVALS] += evals
+    return stopped
 
 
 @njit(cache=True)
@@ -316,9 +357,18 @@ def integrate_implicit(model, points, z, h, n, method, ext, out, counters, guard
     """integrate() for implicit Euler (method is IMPLICIT_EULER; kept for one signature)."""
     work = np.zeros((18, 6))
     record = out.shape[0] == n
-    for i in range(n):
+    watching = watch.shape[0] == points.shape[0] and model.contact
+    stopped = -1
+    i = 0
+    while i < n and stopped < 0:
         fx, fy, tau = applied(ext, i)
         implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work)
-        if stops_after(model, points, z, i, out, record, guard, watch):
-            return i + 1
-    return -1
+        cs, sn = rotation(model, z[2])
+        if record:
+            store(out[i], as_state(z))
+        if not is_healthy(z, guard):
+            stopped = i + 1
+        elif watching and chattering_point_at(model, points, z, cs, sn, watch) >= 0:
+            stopped = i + 1
+        i += 1
+    return stopped

@@ -69,3 +69,32 @@ def test_a_large_but_bounded_step_is_reported_as_chatter_not_blow_up():
     with pytest.raises(SimulationChattered) as info:
         simulate(scene)
     assert np.all(np.isfinite(info.value.state)) and info.value.quantity == "slip velocity"
+
+
+def test_the_blow_up_check_decides_as_its_plain_definition():
+    """is_healthy leaves the finiteness of x, y and the velocities to their finite limits (a NaN
+    or inf fails the comparison) and skips the energy under no energy limit: on states at and
+    around every limit, non-finite in each component, it decides as the plain definition does."""
+    import itertools
+
+    from custom_sim.integrators import is_healthy
+    from custom_sim.simulate import POSITION_LIMIT, SPEED_LIMIT
+
+    def plain(z, guard):
+        mass, inertia, g, y_low, energy_limit, position_limit, speed_limit = guard
+        x, y, theta, vx, vy, om = z
+        with np.errstate(invalid="ignore"):   # inf - inf: a NaN energy, which fails the test below
+            energy = 0.5 * mass * (vx * vx + vy * vy) + 0.5 * inertia * om * om + mass * g * (y - y_low)
+        return bool(np.all(np.isfinite(z)) and abs(x) <= position_limit and abs(y) <= position_limit
+                    and max(abs(vx), abs(vy), abs(om)) <= speed_limit and energy <= energy_limit)
+
+    positions = (-0.05, POSITION_LIMIT, -np.nextafter(POSITION_LIMIT, np.inf), np.nan, -np.inf)
+    speeds = (3.0, -SPEED_LIMIT, np.nextafter(SPEED_LIMIT, np.inf), np.nan, np.inf)
+    angles = (1e300, np.nan, -np.inf)
+    checked = 0
+    for energy_limit in (50.0, np.inf):
+        guard = (2.0, 0.01, 9.81, -0.1, energy_limit, POSITION_LIMIT, SPEED_LIMIT)
+        for z in itertools.product(positions, positions, angles, speeds, speeds, speeds):
+            assert is_healthy(np.array(z), guard) == plain(np.array(z), guard), (z, energy_limit)
+            checked += 1
+    assert checked > 10_000

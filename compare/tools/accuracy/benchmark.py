@@ -4,7 +4,8 @@ Both sides take all their steps in compiled code and record nothing, so the numb
 cost of the physics, not of Python or of storing a trajectory:
 
     custom   custom_sim.Stepper(scene).advance(n): one call into the numba loop
-             (custom_sim.integrators.integrate with an `out` of 0 rows: no recording)
+             (custom_sim.integrators.integrate with an `out` of 0 rows: no recording),
+             less the same with n = 0 (per_step: the steps' cost, not the call's)
     mujoco   mujoco.mj_step(model, data, nstep=n): MuJoCo's C loop, nothing recorded, and
              mujoco.rollout (C loop that also copies the state out each step); the faster of
              the two is MuJoCo's figure, so the ratio never flatters us
@@ -123,11 +124,22 @@ def custom_step_runner(scene: Scene, steps: int, start=None, stepper=Stepper):
     return run
 
 
+def per_step(run_steps, steps: int, **timing) -> Timing:
+    """ns per step (CPU, wall) of run_steps(steps), less the fixed cost of a call, run_steps(0)
+    (building the stepper, the call into compiled code): the cost of the steps alone.
+
+    Without it an older revision (custom_sim_at) is charged some 0.1 ms a call that is none of
+    its steps: its Model namedtuple has the same field types as today's, so numba's dispatcher
+    finds today's type under their shared type fingerprint, and every call of the older loop
+    takes numba's slow path to its own (5 ns a step on elastic_bounce's 30000 steps)."""
+    t = min_time(run_steps(steps), **timing)
+    fixed = min_time(run_steps(0), **timing)
+    return Timing(1e9 * max(t.cpu - fixed.cpu, 0.0) / steps, 1e9 * max(t.wall - fixed.wall, 0.0) / steps)
+
+
 def custom_ns_per_step(scene: Scene, steps: int | None = None, stepper=Stepper, **timing) -> Timing:
-    """ns per step (CPU, wall) of our simulator on the scene."""
-    steps = steps or scene.steps
-    t = min_time(custom_step_runner(scene, steps, stepper=stepper), **timing)
-    return Timing(1e9 * t.cpu / steps, 1e9 * t.wall / steps)
+    """ns per step (CPU, wall) of our simulator on the scene (per_step: without the fixed cost of a call)."""
+    return per_step(lambda n: custom_step_runner(scene, n, stepper=stepper), steps or scene.steps, **timing)
 
 
 def newton_per_step(scene: Scene) -> float:
@@ -219,7 +231,7 @@ def bench_scene(scene: Scene, rounds: int = ROUNDS, before=None, **timing) -> Be
         t = custom_ns_per_step(scene, **timing)
         ours = Timing(min(ours.cpu, t.cpu), min(ours.wall, t.wall))
         if minimal_loop.applies(scene):
-            floor = min(floor, 1e9 * min_time(minimal_loop.runner(scene), **timing).cpu / scene.steps)
+            floor = min(floor, per_step(lambda n: minimal_loop.runner(scene, n), scene.steps, **timing).cpu)
         if before is not None:
             t = custom_ns_per_step(scene, stepper=before.Stepper, **timing)
             old = Timing(min(old.cpu, t.cpu), min(old.wall, t.wall))
