@@ -78,7 +78,7 @@ def test_the_blow_up_check_decides_as_its_plain_definition():
     import itertools
 
     from custom_sim.integrators import is_healthy
-    from custom_sim.simulate import POSITION_LIMIT, SPEED_LIMIT
+    from custom_sim.runner import POSITION_LIMIT, SPEED_LIMIT
 
     def plain(z, guard):
         mass, inertia, g, y_low, energy_limit, position_limit, speed_limit = guard
