@@ -1,0 +1,173 @@
+"""The empty frame of each report figure: its axes with their labels, scales, ticks and grid.
+
+Building a frame (the axes, and the tick objects a first drawing makes) is about half of what
+a figure costs to draw. prebuild() builds every frame and draws it once, in the process the
+scenario processes are forked from; frame(name) hands out such a ready frame once, and builds
+a new one otherwise (a second scenario in one process, a test): the same frame either way.
+
+    with harness_rc(): ...       matplotlib's defaults plus HARNESS_RC, whatever a user set
+    frame(name)                  (figure, axes) of FRAMES[name], to draw the data into
+    save(fig, path)              the PNG, at DPI; returns the file's name
+"""
+from __future__ import annotations
+
+import contextlib
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import numpy as np  # noqa: E402
+from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.ticker import FuncFormatter, LogLocator, MaxNLocator, NullLocator  # noqa: E402
+
+DPI = 100   # 800 pixels across the 8-inch figures: 10-point text stays sharp
+# Fixed margins (fractions of the figure) that hold the axis labels and titles of these
+# figures: matplotlib's tight_layout measured every tick label and took a third of a report.
+MARGINS = dict(left=0.14, right=0.97, top=0.92, hspace=0.3, wspace=0.25)
+X_LABEL_ROOM = 0.55   # inches under the axes for the tick labels and the x label (10-point text)
+# Titles at a fixed height above their axes: placed automatically, each title measures the
+# bounding box of every tick label of its axes first, which was 40 % of drawing a figure.
+HARNESS_RC = {"axes.titley": 1.0}
+# At most this many intervals between labelled ticks of a linear axis (matplotlib's default
+# fits up to 9 on an 8-inch axis): every tick is a handful of artists to build and draw.
+LINEAR_BINS = 6
+NICE_STEPS = (1, 2, 2.5, 5, 10)   # tick spacings (times a power of ten): matplotlib's default's
+# Labelled ticks of a log axis, a decade or a few apart, none between them: a log axis over 15
+# decades otherwise builds some hundred tick objects that are never drawn.
+LOG_TICKS = 8
+SNAPSHOTS = 6   # bodies drawn side by side in the snapshots figure
+# zlib's fastest level for the PNG files: the figures are mostly white, so the files grow by a
+# few per cent while compressing takes two thirds of the time of the default level (6).
+PNG_COMPRESSION = 1
+
+_ready: dict[str, tuple] = {}   # name -> a prebuilt (figure, axes), each handed out once
+
+
+@contextlib.contextmanager
+def harness_rc():
+    """matplotlib's defaults plus HARNESS_RC inside the block, whatever a user's module set
+    (text.usetex, a style); the settings before it are back after it."""
+    with matplotlib.rc_context():
+        matplotlib.rcdefaults()
+        matplotlib.rcParams.update(HARNESS_RC)
+        yield
+
+
+def _power_of_ten(value: float, _position) -> str:
+    """A log axis's tick label as plain text, 1e-12: the default typesets each one as TeX."""
+    return f"1e{round(np.log10(value)):d}" if value > 0 else ""
+
+
+def _figure(size: tuple, rows: int, cols: int, **shared):
+    """A figure of rows x cols axes outside pyplot (nothing to register or close), with the
+    fixed margins; axes as a flat array."""
+    fig = Figure(figsize=size)
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(rows, cols, squeeze=False, **shared).ravel()
+    fig.subplots_adjust(bottom=X_LABEL_ROOM / size[1], **MARGINS)
+    for ax in axes:
+        ax.xaxis.set_major_locator(_ticks())
+        ax.yaxis.set_major_locator(_ticks())
+    return fig, axes
+
+
+def _ticks(bins: int = LINEAR_BINS) -> MaxNLocator:
+    """Ticks of a linear axis: at most `bins` intervals, each a NICE_STEPS spacing."""
+    return MaxNLocator(bins, steps=NICE_STEPS)
+
+
+def _log_y(ax) -> None:
+    """A log y axis labelled by decades, in plain text."""
+    ax.set_yscale("log")
+    ax.yaxis.set_major_locator(LogLocator(numticks=LOG_TICKS))
+    ax.yaxis.set_minor_locator(NullLocator())
+    ax.yaxis.set_major_formatter(FuncFormatter(_power_of_ten))
+
+
+def _labelled(axes, ylabels: tuple, xlabel: str, **grid) -> None:
+    """Each axes' y label, the bottom one's x label, a light grid."""
+    for ax, label in zip(axes, ylabels):
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3, **grid)
+    axes[-1].set_xlabel(xlabel)
+
+
+def _states():
+    fig, axes = _figure((8, 7), 3, 1, sharex=True)
+    _labelled(axes, ("x (m)", "y (m)", "theta (rad)"), "time (s)")
+    return fig, axes
+
+
+def _path():
+    fig, axes = _figure((8, 4), 1, 1)
+    _labelled(axes, ("y (m)",), "x (m)")
+    return fig, axes
+
+
+def _error():
+    fig, axes = _figure((8, 5.5), 2, 1, sharex=True)
+    for ax in axes:
+        _log_y(ax)
+    _labelled(axes, ("position difference (m)", "angle difference (rad)"), "time (s)", which="both")
+    return fig, axes
+
+
+def _energy():
+    fig, axes = _figure((8, 5.5), 2, 1, sharex=True)
+    _labelled(axes, ("energy (J)", "R = E - E(0) + W (J)"), "time (s)")
+    return fig, axes
+
+
+def _snapshots():
+    fig, axes = _figure((2.2 * SNAPSHOTS, 3.2), 1, SNAPSHOTS, sharey=True)
+    for ax in axes:
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (m)", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.xaxis.set_major_locator(_ticks(3))
+    axes[0].set_ylabel("y (m)")
+    return fig, axes
+
+
+def _residuals():
+    fig, axes = _figure((8, 4), 1, 1)
+    _log_y(axes[0])
+    _labelled(axes, ("one-step position residual (m)",), "time (s)", which="both")
+    return fig, axes
+
+
+FRAMES = {"states": _states, "path": _path, "error": _error, "energy": _energy,
+          "snapshots": _snapshots, "residuals": _residuals}
+# The span each axis is drawn over once by prebuild, for its ticks to be made: as many as a
+# figure's data can need (a linear span just past its ticks at each end has the most a locator
+# gives, its bins + 2; a log axis's, some LOG_TICKS + 2, over 15 decades).
+PRIMING_LINEAR, PRIMING_LOG = (-0.01, 1.01), (1e-15, 1.0)
+
+
+def prebuild() -> None:
+    """Build every frame and draw it once (its tick objects, text metrics), for frame() to hand
+    out: call it before forking the processes that draw figures, which then inherit them."""
+    with harness_rc():
+        for name, build in FRAMES.items():
+            fig, axes = build()
+            for ax in axes:
+                ax.set_xlim(*PRIMING_LINEAR)
+                ax.set_ylim(*(PRIMING_LOG if ax.get_yscale() == "log" else PRIMING_LINEAR))
+            fig.canvas.draw()
+            for ax in axes:
+                ax.set_autoscale_on(True)   # the data drawn into the frame sets its limits
+            _ready[name] = (fig, axes)
+
+
+def frame(name: str):
+    """(figure, axes) of the frame `name`: prebuilt if one is waiting, else built now."""
+    ready = _ready.pop(name, None)
+    return ready if ready is not None else FRAMES[name]()
+
+
+def save(fig, path: Path) -> str:
+    """Write fig as the PNG path (DPI dots per inch); returns the file's name."""
+    fig.savefig(path, dpi=DPI, pil_kwargs={"compress_level": PNG_COMPRESSION})
+    return path.name
