@@ -1,6 +1,7 @@
 """The report's figures: the line thinning keeps what a reader must see (every extreme of every
 run of samples, the first and last sample, in time order); a frame built ahead draws the same
-PNG as one built on the spot; each figure keeps its title, axis labels, legend and data."""
+PNG as one built on the spot; each figure keeps its title, axis labels, legend and data; the
+PNG writer keeps every pixel savefig would write."""
 from __future__ import annotations
 
 import numpy as np
@@ -117,3 +118,32 @@ def test_every_figure_has_its_title_axis_labels_and_legend(tmp_path, monkeypatch
     assert [ax.get_ylabel() for ax in saved["states"].axes] == ["x (m)", "y (m)", "theta (rad)"]
     assert saved["error"].axes[0].get_yscale() == "log" and saved["residuals"].axes[0].get_yscale() == "log"
     assert [ax.get_title() for ax in saved["snapshots"].axes][0] == "t = 0.00 s"
+
+
+def test_a_png_holds_exactly_the_pixels_written(tmp_path):
+    from PIL import Image
+
+    from compare.report.png import write_rgb
+
+    rgb = np.random.default_rng(2).integers(0, 256, size=(37, 53, 3), dtype=np.uint8)
+    rgb[5:9] = 255                                   # flat rows, as a figure's white
+    write_rgb(tmp_path / "a.png", rgb)
+    with Image.open(tmp_path / "a.png") as image:
+        assert image.mode == "RGB" and np.array_equal(np.asarray(image), rgb)
+
+
+def test_a_saved_figure_has_the_pixels_savefig_writes(tmp_path):
+    from PIL import Image
+
+    from compare.report import frames
+
+    with frames.harness_rc():
+        fig, axes = frames.frame("error")
+        axes[0].plot([0.0, 1.0, 2.0], [1e-12, 1e-3, 1e-6], label="a line")
+        axes[0].legend()
+        axes[0].set_title("a title")
+        frames.save(fig, tmp_path / "error.png")
+        fig.savefig(tmp_path / "savefig.png")
+    with Image.open(tmp_path / "error.png") as ours, Image.open(tmp_path / "savefig.png") as theirs:
+        assert ours.size == theirs.size == (800, 550)
+        assert np.array_equal(np.asarray(ours), np.asarray(theirs.convert("RGB")))

@@ -7,7 +7,7 @@ a new one otherwise (a second scenario in one process, a test): the same frame e
 
     with harness_rc(): ...       matplotlib's defaults plus HARNESS_RC, whatever a user set
     frame(name)                  (figure, axes) of FRAMES[name], to draw the data into
-    save(fig, path)              the PNG, at DPI; returns the file's name
+    save(fig, path)              the PNG (compare/report/png.py); returns the file's name
 """
 from __future__ import annotations
 
@@ -21,6 +21,8 @@ import numpy as np  # noqa: E402
 from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.ticker import FuncFormatter, LogLocator, MaxNLocator, NullLocator  # noqa: E402
+
+from .png import write_rgb  # noqa: E402
 
 DPI = 100   # 800 pixels across the 8-inch figures: 10-point text stays sharp
 # Fixed margins (fractions of the figure) that hold the axis labels and titles of these
@@ -38,9 +40,6 @@ NICE_STEPS = (1, 2, 2.5, 5, 10)   # tick spacings (times a power of ten): matplo
 # decades otherwise builds some hundred tick objects that are never drawn.
 LOG_TICKS = 8
 SNAPSHOTS = 6   # bodies drawn side by side in the snapshots figure
-# zlib's fastest level for the PNG files: the figures are mostly white, so the files grow by a
-# few per cent while compressing takes two thirds of the time of the default level (6).
-PNG_COMPRESSION = 1
 
 _ready: dict[str, tuple] = {}   # name -> a prebuilt (figure, axes), each handed out once
 
@@ -63,7 +62,7 @@ def _power_of_ten(value: float, _position) -> str:
 def _figure(size: tuple, rows: int, cols: int, **shared):
     """A figure of rows x cols axes outside pyplot (nothing to register or close), with the
     fixed margins; axes as a flat array."""
-    fig = Figure(figsize=size)
+    fig = Figure(figsize=size, dpi=DPI)
     FigureCanvasAgg(fig)
     axes = fig.subplots(rows, cols, squeeze=False, **shared).ravel()
     fig.subplots_adjust(bottom=X_LABEL_ROOM / size[1], **MARGINS)
@@ -168,6 +167,8 @@ def frame(name: str):
 
 
 def save(fig, path: Path) -> str:
-    """Write fig as the PNG path (DPI dots per inch); returns the file's name."""
-    fig.savefig(path, dpi=DPI, pil_kwargs={"compress_level": PNG_COMPRESSION})
+    """Draw fig and write it as the PNG path; returns the file's name. The pixels savefig
+    would write (the figure is at DPI, on its own background), through a quicker encoder."""
+    fig.canvas.draw()
+    write_rgb(path, np.asarray(fig.canvas.buffer_rgba())[:, :, :3])
     return path.name
