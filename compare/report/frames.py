@@ -1,7 +1,7 @@
 """The empty frame of each report figure: its axes with their labels, scales, ticks and grid.
 
-Building a frame (the axes, and the tick objects a first drawing makes) is about half of what
-a figure costs to draw. prebuild() builds every frame and draws it once, in the process the
+Building a frame (the axes, and the tick objects a first drawing makes) is about a third of
+what a figure costs to draw. prebuild() builds every frame with its ticks in the process the
 scenario processes are forked from; frame(name) hands out such a ready frame once, and builds
 a new one otherwise (a second scenario in one process, a test): the same frame either way.
 
@@ -20,6 +20,8 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.font_manager import FontProperties  # noqa: E402
+from matplotlib.transforms import ScaledTranslation  # noqa: E402
 from matplotlib.ticker import FuncFormatter, LogLocator, MaxNLocator, NullLocator  # noqa: E402
 
 from .png import write_rgb  # noqa: E402
@@ -31,7 +33,9 @@ MARGINS = dict(left=0.14, right=0.97, top=0.92, hspace=0.3, wspace=0.25)
 X_LABEL_ROOM = 0.55   # inches under the axes for the tick labels and the x label (10-point text)
 # Titles at a fixed height above their axes: placed automatically, each title measures the
 # bounding box of every tick label of its axes first, which was 40 % of drawing a figure.
-HARNESS_RC = {"axes.titley": 1.0}
+# Glyphs drawn unhinted: the same letters to the eye at 10 points, without running each
+# glyph's TrueType hinting program, which was a sixth of drawing a figure.
+HARNESS_RC = {"axes.titley": 1.0, "text.hinting": "no_hinting"}
 # At most this many intervals between labelled ticks of a linear axis (matplotlib's default
 # fits up to 9 on an 8-inch axis): every tick is a handful of artists to build and draw.
 LINEAR_BINS = 6
@@ -40,6 +44,7 @@ NICE_STEPS = (1, 2, 2.5, 5, 10)   # tick spacings (times a power of ten): matplo
 # decades otherwise builds some hundred tick objects that are never drawn.
 LOG_TICKS = 8
 SNAPSHOTS = 6   # bodies drawn side by side in the snapshots figure
+SNAPSHOT_TICK_SIZE = 7   # points: the tick labels of the snapshots' narrow axes
 
 _ready: dict[str, tuple] = {}   # name -> a prebuilt (figure, axes), each handed out once
 
@@ -69,12 +74,24 @@ def _figure(size: tuple, rows: int, cols: int, **shared):
     for ax in axes:
         ax.xaxis.set_major_locator(_ticks())
         ax.yaxis.set_major_locator(_ticks())
+        _x_label_under_ticks(ax)
     return fig, axes
 
 
 def _ticks(bins: int = LINEAR_BINS) -> MaxNLocator:
     """Ticks of a linear axis: at most `bins` intervals, each a NICE_STEPS spacing."""
     return MaxNLocator(bins, steps=NICE_STEPS)
+
+
+def _x_label_under_ticks(ax, tick_label_size=None) -> None:
+    """Fix ax's x label where matplotlib places it under one row of tick labels (of
+    tick_label_size, default the rc's): tick, pad, labels and label pad under the axes. Placed
+    automatically, it measures every tick label of the axis at each drawing (a tenth of drawing
+    a figure)."""
+    rc = matplotlib.rcParams
+    size = FontProperties(size=tick_label_size or rc["xtick.labelsize"]).get_size_in_points()
+    drop = rc["xtick.major.size"] + rc["xtick.major.pad"] + size + rc["axes.labelpad"]   # points
+    ax.xaxis.set_label_coords(0.5, 0.0, ax.transAxes + ScaledTranslation(0.0, -drop / 72, ax.figure.dpi_scale_trans))
 
 
 def _log_y(ax) -> None:
@@ -124,7 +141,8 @@ def _snapshots():
     for ax in axes:
         ax.set_aspect("equal")
         ax.set_xlabel("x (m)", fontsize=8)
-        ax.tick_params(labelsize=7)
+        ax.tick_params(labelsize=SNAPSHOT_TICK_SIZE)
+        _x_label_under_ticks(ax, SNAPSHOT_TICK_SIZE)
         ax.xaxis.set_major_locator(_ticks(3))
     axes[0].set_ylabel("y (m)")
     return fig, axes
@@ -139,24 +157,26 @@ def _residuals():
 
 FRAMES = {"states": _states, "path": _path, "error": _error, "energy": _energy,
           "snapshots": _snapshots, "residuals": _residuals}
-# The span each axis is drawn over once by prebuild, for its ticks to be made: as many as a
-# figure's data can need (a linear span just past its ticks at each end has the most a locator
-# gives, its bins + 2; a log axis's, some LOG_TICKS + 2, over 15 decades).
+# The spans over which prebuild counts the ticks an axis may need (its locator's most: a linear
+# span just past its ticks at each end, the bins + 2; a log axis's LOG_TICKS + 2, over 15 decades).
 PRIMING_LINEAR, PRIMING_LOG = (-0.01, 1.01), (1e-15, 1.0)
 
 
+def _make_ticks(ax) -> None:
+    """Make the tick objects each axis of ax may need, which drawing would make otherwise."""
+    for axis in (ax.xaxis, ax.yaxis):
+        span = PRIMING_LOG if axis.get_scale() == "log" else PRIMING_LINEAR
+        axis.get_major_ticks(len(axis.get_major_locator().tick_values(*span)))
+
+
 def prebuild() -> None:
-    """Build every frame and draw it once (its tick objects, text metrics), for frame() to hand
-    out: call it before forking the processes that draw figures, which then inherit them."""
+    """Build every frame with its tick objects, for frame() to hand out: call it before forking
+    the processes that draw figures, which then inherit them."""
     with harness_rc():
         for name, build in FRAMES.items():
             fig, axes = build()
             for ax in axes:
-                ax.set_xlim(*PRIMING_LINEAR)
-                ax.set_ylim(*(PRIMING_LOG if ax.get_yscale() == "log" else PRIMING_LINEAR))
-            fig.canvas.draw()
-            for ax in axes:
-                ax.set_autoscale_on(True)   # the data drawn into the frame sets its limits
+                _make_ticks(ax)
             _ready[name] = (fig, axes)
 
 
