@@ -48,7 +48,11 @@ def _envelope(y: np.ndarray) -> np.ndarray | slice:
 def _young_objects_only():
     """The garbage collector kept to the objects made inside the block: drawing makes enough of
     them to start full collections, each walking every object of a scenario's process (its
-    trajectories, MuJoCo, scipy), which was a fifth of drawing its figures."""
+    trajectories, MuJoCo, scipy), which was a fifth of drawing its figures. Objects frozen
+    already (by whoever froze them) are left so."""
+    if gc.get_freeze_count():
+        yield
+        return
     gc.freeze()
     try:
         yield
