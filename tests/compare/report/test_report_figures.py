@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from compare.report.plots import MAX_POINTS, _envelope
+from compare.checks.row import CheckRow
 
 
 def test_short_lines_are_drawn_whole():
@@ -58,7 +59,7 @@ def _figures(tmp, scene):
                 for name in ("custom_sim", "mujoco", "reference")}
     diffs = {"t": t, "position": np.abs(1e-3 * wave) + 1e-14, "angle": np.abs(1e-2 * wave)}
     residuals = {"semi_implicit_euler": 1e-17 * (1 + np.abs(wave[1:]))}
-    checks = [{"name": "step", "integrator": "semi_implicit_euler", "tolerance_position": 1e-15}]
+    checks = [CheckRow("step", "one step", integrator="semi_implicit_euler", tolerance_position=1e-15)]
     shown = (custom, mujoco)
     return {"states": lambda: plots.states(scene, shown, tmp / "states.png", custom.states()),
             "path": lambda: plots.path_in_plane(scene, shown, tmp / "path.png"),
