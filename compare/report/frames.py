@@ -37,8 +37,9 @@ X_LABEL_ROOM = 0.55   # inches under the axes for the tick labels and the x labe
 # glyph's TrueType hinting program, which was a sixth of drawing a figure.
 HARNESS_RC = {"axes.titley": 1.0, "text.hinting": "no_hinting"}
 # At most this many intervals between labelled ticks of a linear axis (matplotlib's default
-# fits up to 9 on an 8-inch axis): every tick is a handful of artists to build and draw.
-LINEAR_BINS = 6
+# fits up to 9 on an 8-inch axis): every tick is a handful of artists to build and draw. On
+# the x axis one more, for a tick every 0.5 s over the built-ins' runs of 2 to 3 s.
+LINEAR_BINS, X_BINS = 6, 7
 NICE_STEPS = (1, 2, 2.5, 5, 10)   # tick spacings (times a power of ten): matplotlib's default's
 # Labelled ticks of a log axis, a decade or a few apart, none between them: a log axis over 15
 # decades otherwise builds some hundred tick objects that are never drawn.
@@ -72,7 +73,7 @@ def _figure(size: tuple, rows: int, cols: int, **shared):
     axes = fig.subplots(rows, cols, squeeze=False, **shared).ravel()
     fig.subplots_adjust(bottom=X_LABEL_ROOM / size[1], **MARGINS)
     for ax in axes:
-        ax.xaxis.set_major_locator(_ticks())
+        ax.xaxis.set_major_locator(_ticks(X_BINS))
         ax.yaxis.set_major_locator(_ticks())
         _x_label_under_ticks(ax)
     return fig, axes
@@ -157,16 +158,18 @@ def _residuals():
 
 FRAMES = {"states": _states, "path": _path, "error": _error, "energy": _energy,
           "snapshots": _snapshots, "residuals": _residuals}
-# The spans over which prebuild counts the ticks an axis may need (its locator's most: a linear
-# span just past its ticks at each end, the bins + 2; a log axis's LOG_TICKS + 2, over 15 decades).
-PRIMING_LINEAR, PRIMING_LOG = (-0.01, 1.01), (1e-15, 1.0)
+# The spans over which prebuild counts the ticks an axis may need: a linear span just past its
+# ticks at each end has the most a locator gives, its bins + 2 (the first span for 3 and 6
+# bins, the second for 7); a log axis's 15 decades, LOG_TICKS + 2.
+PRIMING_LINEAR, PRIMING_LOG = ((-0.01, 1.01), (-0.01, 0.61)), ((1e-15, 1.0),)
 
 
 def _make_ticks(ax) -> None:
     """Make the tick objects each axis of ax may need, which drawing would make otherwise."""
     for axis in (ax.xaxis, ax.yaxis):
-        span = PRIMING_LOG if axis.get_scale() == "log" else PRIMING_LINEAR
-        axis.get_major_ticks(len(axis.get_major_locator().tick_values(*span)))
+        locator = axis.get_major_locator()
+        spans = PRIMING_LOG if axis.get_scale() == "log" else PRIMING_LINEAR
+        axis.get_major_ticks(max(len(locator.tick_values(*span)) for span in spans))
 
 
 def prebuild() -> None:
