@@ -62,15 +62,24 @@ class Trajectory:
         return np.column_stack([self.x, self.y, self.theta, self.vx, self.vy, self.omega])
 
 
-def write_csv(traj: Trajectory, path: str | Path) -> None:
-    """Header row, then one row per state: the initial state (t = 0), then the state after each
-    step (t = dt, 2 dt, ...), so row i of the file is row i of the Trajectory."""
+def csv_text(traj: Trajectory) -> str:
+    """The CSV file of a trajectory: header row, then one row per state: the initial state
+    (t = 0), then the state after each step (t = dt, 2 dt, ...), so row i of the file is row i
+    of the Trajectory. Raises ValueError for a non-finite value."""
     rows = np.column_stack([getattr(traj, c) if c != "energy" else traj.energy for c in CSV_COLUMNS])
     if not np.all(np.isfinite(rows)):
-        raise ValueError(f"refusing to write non-finite values to {path}")
+        raise ValueError("refusing to write non-finite values to a CSV file")
     # one format operation for the whole table (formatted in C): a loop over rows took 10 % of a run
     line = ",".join([CSV_FORMAT] * rows.shape[1]) + "\n"
-    text = ",".join(CSV_COLUMNS) + "\n" + (line * rows.shape[0]) % tuple(rows.ravel().tolist())
+    return ",".join(CSV_COLUMNS) + "\n" + (line * rows.shape[0]) % tuple(rows.ravel().tolist())
+
+
+def write_csv(traj: Trajectory, path: str | Path) -> None:
+    """Write csv_text(traj) as the file path (a non-finite value: ValueError naming it)."""
+    try:
+        text = csv_text(traj)
+    except ValueError:
+        raise ValueError(f"refusing to write non-finite values to {path}") from None
     Path(path).write_text(text, encoding="utf-8")
 
 

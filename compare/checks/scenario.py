@@ -27,6 +27,7 @@ from scene_types.integrators import MUJOCO_TWIN
 from scene_types.schema import SOLREF_MAPPINGS
 
 from . import events, metrics
+from ..store import cached
 from .case import Case
 from .native_check import native_row
 from .row import CheckRow
@@ -244,39 +245,37 @@ def energy_balances(result: Result, case: Case) -> dict:
     """The work-energy balance (compare/energy) of each trajectory the scenario holds: the
     simulator under test (W by its integrator's own rule, or the trapezoid rule for an integrator
     the harness does not know or states read from a file), custom_sim beside a user's, MuJoCo's
-    native run (from its states), and the converged reference (its work integrated with it)."""
+    native run (from its states), and the converged reference (its work integrated with it).
+    Those of custom_sim, MuJoCo and the reference depend on the scene alone: from the cache."""
     from ..energy import balance
     from ..energy.mujoco_side import native_from_run
+    from ..oracle.reference import ReferenceError as NoReference
 
-    scene, tested = result.scene, result.under_test
+    scene, tested, custom = result.scene, result.under_test, result.custom
     rule = tested.integrator if tested.integrator in INTEGRATORS and not tested.meta.get("rounding") else None
-    out = {result.simulator: balance(scene, tested.t, tested.states(), rule)}
-    if tested is not result.custom:
-        out[CUSTOM] = balance(scene, result.custom.t, result.custom.states(), result.custom.integrator)
+    out = {result.simulator: (cached(balance) if tested is custom else balance)(scene, tested.t, tested.states(), rule)}
+    if tested is not custom:
+        out[CUSTOM] = cached(balance)(scene, custom.t, custom.states(), custom.integrator)
     twin = result.mujoco
-    out["mujoco"] = native_from_run(scene, twin.t, twin.states(), twin.integrator, twin.meta.get("solref_mapping", "penalty"))
-    reference = reference_balance(case)
-    if reference is not None:
-        out["reference"] = reference
+    out["mujoco"] = cached(native_from_run)(scene, twin.t, twin.states(), twin.integrator,
+                                            twin.meta.get("solref_mapping", "penalty"))
+    try:
+        reference = case.reference()
+    except NoReference:
+        reference = None
+    if reference is not None and getattr(reference, "work", None) is not None:
+        out["reference"] = cached(reference_balance)(scene, reference)
     return out
 
 
-def reference_balance(case: Case):
-    """The converged reference's balance, its work integrated with the motion (None without a
-    reference, or a reference that carries no work)."""
+def reference_balance(scene: Scene, ref):
+    """The converged reference's balance, its work integrated with the motion."""
     from ..energy.balance import Balance
     from ..energy.terms import energy
     from ..energy.law import body_of
-    from ..oracle.reference import ReferenceError
-    try:
-        ref = case.reference()
-    except ReferenceError:
-        return None
-    work = getattr(ref, "work", None)
-    if work is None:
-        return None
-    E = energy(case.scene, body_of(case.scene), ref.states)
-    return Balance(ref.t, E, work, E - E[0] + work.sum(axis=1), "integrated with the motion (DOP853, the "
+
+    E = energy(scene, body_of(scene), ref.states)
+    return Balance(ref.t, E, ref.work, E - E[0] + ref.work.sum(axis=1), "integrated with the motion (DOP853, the "
                    "reference's tolerance)", "reference", np.zeros(6))
 
 

@@ -24,7 +24,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from scene_types import Scene
 
@@ -650,6 +649,8 @@ def solve_reference(scene: Scene, t_eval, rtol: float = REFERENCE_RTOL,
     if t_eval[0] == 0.0:
         out[0] = z
         done = 1
+    from scipy.integrate import solve_ivp   # here: a run whose reference is in the cache never needs scipy
+
     nfev, segments = 0, 0
     switches = {"touch": 0, "kink": 0, "friction": 0, "spin": 0}
     recent: list[float] = []

@@ -9,11 +9,12 @@ import os
 import shutil
 from pathlib import Path
 
-from custom_sim import write_csv
+from scene_types import csv_text, write_csv
 
 from .atomic import finite_json, temporary_folder, write_text_atomically
 
 from ..checks import metrics
+from ..store import cached
 from . import plots
 from ..checks.law_difference import law_lines
 from ..checks.row import CheckRow
@@ -31,6 +32,15 @@ def _write_atomically(path: Path, text: str) -> None:
     write_text_atomically(path, text)
 
 
+def _write_csv(run, path: Path, scene_only: bool) -> None:
+    """A run's CSV file; the text of custom_sim's and MuJoCo's runs, which depend on the scene
+    alone, comes from the cache of scene-only work."""
+    if scene_only:
+        path.write_text(cached(csv_text)(run), encoding="utf-8")
+    else:
+        write_csv(run, path)
+
+
 def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
     """Write DIR/<name>/ for a scenario that ran; returns its metrics.json content."""
     scene = result.scene
@@ -38,11 +48,11 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
     tmp = temporary_folder(out, prefix=f".{scene.name}.")   # the umask's permissions, not 0700
     try:
         data = metrics_json(result)
-        write_csv(result.custom, tmp / "trajectory_custom.csv")
-        write_csv(result.mujoco, tmp / "trajectory_mujoco.csv")
+        _write_csv(result.custom, tmp / "trajectory_custom.csv", scene_only=True)
+        _write_csv(result.mujoco, tmp / "trajectory_mujoco.csv", scene_only=True)
         tested, twin = result.under_test, result.mujoco
         if tested is not result.custom:
-            write_csv(tested, tmp / "trajectory_user.csv")
+            _write_csv(tested, tmp / "trajectory_user.csv", scene_only=False)
         (tmp / "model.xml").write_text(mjcf)
         diffs = metrics.differences(tested, twin)
         shown = (tested, twin) if tested is result.custom else (tested, result.custom, twin)

@@ -67,20 +67,30 @@ def test_the_cache_stamp_follows_numba_cache_dir(tmp_path):
 
 def test_cold_start_table_shows_every_stage_for_each_tree():
     t = cold_start.Timed(1.5, 1.25, 0)
-    r = cold_start.ColdStart("x", t, t, t, t)
+    r = cold_start.ColdStart("x", t, t, t, t, t, t)
     text = cold_start.table([("today", r), ("before", r)])
     assert "today" in text and "before" in text
-    for stage in ("compile (empty cache)", "run, cache warm", "first run (empty cache)", "second run"):
+    for stage in ("compile (empty cache)", "run, cache warm", "first run (empty cache)", "second run",
+                  "run --sim (example copy)", "run --sim after an edit"):
         assert stage in text
-    assert text.count("1.5") == 8 and text.count("1.2") == 8
+    assert text.count("1.5") == 12 and text.count("1.2") == 12
 
 
 def test_cold_start_rounds_keep_each_stages_fastest_round(monkeypatch):
-    """Round 1 is slow in the compile and the first run, round 2 in the two warm runs: each
-    stage keeps its own minimum, with the CPU time of that same round."""
-    walls = iter([9.0, 2.0, 8.0, 2.0,    # round 1: compile, run warm, first run, second run
-                  5.0, 3.0, 6.0, 3.0])   # round 2
-    monkeypatch.setattr(cold_start, "timed", lambda command, cwd, cache: (lambda w: cold_start.Timed(w, w + 0.5, 0))(next(walls)))
+    """Round 1 is slow in the compile, the first run and the rerun after an edit, round 2 in
+    the other runs: each stage keeps its own minimum, with the CPU time of that same round."""
+    walls = iter([9.0, 2.0, 8.0, 2.0, 4.0, 7.0,   # round 1: compile, run warm, first, second, --sim, after edit
+                  5.0, 3.0, 6.0, 3.0, 5.0, 4.0])  # round 2
+    commands = []
+
+    def timed(command, cwd, cache):
+        commands.append(command)
+        return (lambda w: cold_start.Timed(w, w + 0.5, 0))(next(walls))
+
+    monkeypatch.setattr(cold_start, "timed", timed)
     (r,) = cold_start.measure([ROOT], ["box_slide"], rounds=2)
-    assert [r.compile.wall, r.run_warm.wall, r.first_run.wall, r.second_run.wall] == [5.0, 2.0, 6.0, 2.0]
+    assert [r.compile.wall, r.run_warm.wall, r.first_run.wall, r.second_run.wall, r.user_run.wall,
+            r.after_edit.wall] == [5.0, 2.0, 6.0, 2.0, 4.0, 4.0]
     assert r.compile.cpu == 5.5 and r.run_warm.cpu == 2.5
+    sims = [c[c.index("--sim") + 1] for c in commands if "--sim" in c]
+    assert len(sims) == 4 and all(s.endswith("my_sim.py:step") for s in sims), "the last two stages run a copy"

@@ -10,6 +10,9 @@ computed earlier on the machine is reused:
     run, warm    `python -m compare run SCENES` once that compile is cached (no scene-only work yet)
     first run    `python -m compare run SCENES` on other empty caches: what a new user waits
     second run   the same command again, both caches now full
+    user's run   `python -m compare run SCENES --sim COPY:step`, COPY a copy of examples/seed_sim.py
+    after edit   the same again after an edit of COPY: what a user waits between two edits
+                 (nothing of a user's simulator is cached, so any edit costs the same)
 
 Wall time is what a user waits; CPU time (user + system, all the processes of the command)
 is what the machine spent, and moves less with other load. The load average is printed with
@@ -79,6 +82,8 @@ class ColdStart:
     run_warm: Timed
     first_run: Timed
     second_run: Timed
+    user_run: Timed
+    after_edit: Timed
 
 
 def measure(trees: list[Path], scenes: list[str], jobs: int | None = None, rounds: int = 1) -> list[ColdStart]:
@@ -95,13 +100,20 @@ def measure(trees: list[Path], scenes: list[str], jobs: int | None = None, round
                 return tempfile.mkdtemp(dir=work)
             caches = [(folder(), folder()) for _ in trees]
             stages = [[] for _ in trees]
-            for step in range(4):
+            sims = [Path(folder()) / "my_sim.py" for _ in trees]
+            for step in range(6):
                 for i, tree in enumerate(trees):
                     if step == 0:
                         stages[i].append(timed([sys.executable, "-c", COMPILE_PROBE], tree, caches[i][0]))
-                    else:
-                        cache = caches[i][0] if step == 1 else caches[i][1]
-                        stages[i].append(timed([*run, "--out", folder()], tree, cache))
+                        continue
+                    cache, extra = caches[i][0] if step == 1 else caches[i][1], []
+                    if step == 4:
+                        sims[i].write_text((tree / "examples" / "seed_sim.py").read_text())
+                    if step == 5:
+                        sims[i].write_text(sims[i].read_text() + "\n# an edit\n")
+                    if step >= 4:
+                        extra = ["--sim", f"{sims[i]}:step"]
+                    stages[i].append(timed([*run, *extra, "--out", folder()], tree, cache))
         for i, st in enumerate(stages):
             best[i] = st if not best[i] else [min(a, b, key=lambda t: t.wall) for a, b in zip(best[i], st)]
     return [ColdStart(str(tree), *st) for tree, st in zip(trees, best)]
@@ -132,5 +144,6 @@ def table(results: list[tuple[str, ColdStart]]) -> str:
     headers = ["stage", *(f"{label} {kind} s" for label, _ in results for kind in ("wall", "cpu"))]
     rows = [[words, *(f"{t:.1f}" for _, r in results for t in (getattr(r, key).wall, getattr(r, key).cpu))]
             for key, words in (("compile", "compile (empty cache)"), ("run_warm", "run, cache warm"),
-                               ("first_run", "first run (empty cache)"), ("second_run", "second run"))]
+                               ("first_run", "first run (empty cache)"), ("second_run", "second run"),
+                               ("user_run", "run --sim (example copy)"), ("after_edit", "run --sim after an edit"))]
     return text(headers, rows, align=["left", *["right"] * (len(headers) - 1)])

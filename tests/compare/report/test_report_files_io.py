@@ -51,7 +51,7 @@ def test_the_index_is_written_with_the_umask_permissions(tmp_path, umask):
 def _stub_report(monkeypatch, data):
     """write_scenario with its content stubbed: only its folder, its files and metrics.json."""
     monkeypatch.setattr(pages, "metrics_json", lambda result: data)
-    monkeypatch.setattr(pages, "write_csv", lambda traj, path: path.write_text("t\n0\n"))
+    monkeypatch.setattr(pages, "csv_text", lambda traj: "t\n0\n")
     monkeypatch.setattr(pages.metrics, "differences", lambda a, b: None)
     monkeypatch.setattr(pages.plots, "draw_all", lambda figures, warnings: {}, raising=False)
     for name in ("states", "path_in_plane", "error", "energy", "snapshots", "step_residuals"):
