@@ -382,7 +382,7 @@ def not_named_text(near: list[dict], where: str = "", most: int = 3) -> str:
                      for t in near[:most])
 
 
-def diagnose(scene, states, integrator: str, dt: float, input_rtol: float = 0.0) -> dict:
+def diagnose(scene, states, integrator: str, dt: float, input_rtol: float = 0.0, step_row=None) -> dict:
     """Which catalogued mistake (or pair) explains a trajectory that fails check `step`.
 
     Returns {"step": the step CheckRow, "explained_by": [names], "mistakes": [per
@@ -391,9 +391,10 @@ def diagnose(scene, states, integrator: str, dt: float, input_rtol: float = 0.0)
     "force": the first failing step's velocity residual as a force (force_difference), or
     None, "verdict": one line}. A variant explains the trajectory only when it explains every
     step, the step into a non-finite state included. Variants are tried one at a time; pairs
-    only when no single one explains."""
+    only when no single one explains. step_row: the step check's row of these states, when the
+    caller has it (a scenario's run), else computed here."""
     states = np.asarray(states, dtype=float)
-    row = check_step(scene, states, integrator, dt, input_rtol=input_rtol)
+    row = step_row if step_row is not None else check_step(scene, states, integrator, dt, input_rtol=input_rtol)
     out = {"step": row, "explained_by": [], "mistakes": [], "not_named": [], "force": None}
     if row.passed is None:
         out["verdict"] = f"not diagnosed: {row.reason}"

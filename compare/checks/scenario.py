@@ -145,7 +145,10 @@ def _run(result: Result, case: Case, simulator) -> None:
         from .law_difference import law_differences
         result.law_differences = law_differences(scene, result.under_test.t, result.under_test.states())
     if user:
-        result.diagnosis = simulator.diagnose(scene, result.under_test, probe=result.keeps_state is None, case=case)
+        tested = result.under_test
+        step_row = next((c for c in result.checks if c.name == "step" and c.integrator == tested.integrator), None)
+        result.diagnosis = simulator.diagnose(scene, tested, probe=result.keeps_state is None, case=case,
+                                              step_row=step_row)
 
 
 def runs_under_test(result: Result, case: Case, simulator) -> dict:

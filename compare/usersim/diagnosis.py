@@ -123,7 +123,8 @@ def _named(*explained: list[str]) -> list[dict]:
              "description": mistakes.BY_NAME[n].description} for n in names]
 
 
-def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=None, probe: bool = True) -> dict:
+def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=None, probe: bool = True,
+              step_row=None) -> dict:
     """The diagnosis of the user's run `states` (steps + 1, 6) of `scene` (JSON-safe dict):
 
     integrator    the one the simulator names
@@ -146,7 +147,7 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
     integrator = simulator.integrator_for(scene)
     states = np.asarray(states, dtype=float)
     laws: list[dict] = []
-    traj = mistakes.diagnose(scene, states, integrator, scene.dt, input_rtol=rounding or 0.0)
+    traj = mistakes.diagnose(scene, states, integrator, scene.dt, input_rtol=rounding or 0.0, step_row=step_row)
     moments = (_moments(simulator, scene, integrator, also=traj.get("explained_by", []), case=case)
                if probe and getattr(simulator, "kind", "") == "step" else None)
     names, not_named = _decide(traj, moments, scene, states, integrator)
