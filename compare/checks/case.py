@@ -12,7 +12,8 @@ scene, and asks it for what it needs:
     case.mujoco(solref)              MuJoCo's native twin with that solref mapping
     case.envelope(integrator)        the round-off envelope of custom_sim's run (check identical)
 
-Each is computed on first use and kept; a failure (a divergence) is kept too and raised again,
+A function of the case alone (a CSV file of its runs, their energy balance) is cached with the
+case as its argument: the case is keyed by its scene. Each is computed on first use and kept; a failure (a divergence) is kept too and raised again,
 so no run is repeated to get its exception back.
 """
 from __future__ import annotations
@@ -33,6 +34,11 @@ class Case:
     def __init__(self, scene: Scene):
         self.scene = scene
         self._memo: dict = {}
+
+    def __getstate__(self) -> dict:
+        """A case pickles as its scene alone, without its runs: so it is keyed in the cache of
+        scene-only work (compare/store.py) by its scene, as a scene is."""
+        return {"scene": self.scene, "_memo": {}}
 
     def _once(self, key, compute):
         """compute() the first time `key` is asked for; its result, or its exception, after."""

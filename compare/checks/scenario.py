@@ -62,6 +62,7 @@ class Result:
     keeps_state: str | None = None                    # a step function whose answer depends on earlier calls
     law_differences: list = field(default_factory=list)  # `run --law`: each effect that differs from the scene's
     balances: dict = field(default_factory=dict)      # simulator -> compare.energy.Balance (E, W, R)
+    case: Case | None = None                          # the scene and the runs its checks shared
 
     @property
     def judged(self) -> list[CheckRow]:
@@ -112,8 +113,9 @@ def run_scenario(scene: Scene, simulator=None) -> Result:
     from ..usersim.errors import UserDiverged
 
     result = Result(scene)
+    result.case = Case(scene)
     try:
-        _run(result, Case(scene), simulator)
+        _run(result, result.case, simulator)
     except SimulationDiverged as exc:
         result.error, result.unstable = str(exc), True
     except UserFault as exc:  # the user's code failed on this scene: its row, the others go on
@@ -251,33 +253,50 @@ def energy_balances(result: Result, case: Case) -> dict:
     native run (from its states), and the converged reference (its work integrated with it).
     Those of custom_sim, MuJoCo and the reference depend on the scene alone: from the cache."""
     from ..energy import balance
-    from ..energy.mujoco_side import native_from_run
-    from ..oracle.reference import ReferenceError as NoReference
 
-    scene, tested, custom = result.scene, result.under_test, result.custom
-    rule = tested.integrator if tested.integrator in INTEGRATORS and not tested.meta.get("rounding") else None
-    out = {result.simulator: (cached(balance) if tested is custom else balance)(scene, tested.t, tested.states(), rule)}
-    if tested is not custom:
-        out[CUSTOM] = cached(balance)(scene, custom.t, custom.states(), custom.integrator)
-    twin = result.mujoco
-    out["mujoco"] = cached(native_from_run)(scene, twin.t, twin.states(), twin.integrator,
-                                            twin.meta.get("solref_mapping", "penalty"))
-    try:
-        reference = case.reference()
-    except NoReference:
-        reference = None
-    if reference is not None and getattr(reference, "work", None) is not None:
-        out["reference"] = cached(reference_balance)(scene, reference)
+    tested = result.under_test
+    if tested is result.custom:
+        out = {result.simulator: cached(custom_balance)(case)}
+    else:
+        rule = tested.integrator if tested.integrator in INTEGRATORS and not tested.meta.get("rounding") else None
+        out = {result.simulator: balance(case.scene, tested.t, tested.states(), rule),
+               CUSTOM: cached(custom_balance)(case)}
+    out["mujoco"] = cached(mujoco_balance)(case)
+    reference = cached(reference_balance)(case)
+    if reference is not None:
+        out["reference"] = reference
     return out
 
 
-def reference_balance(scene: Scene, ref):
-    """The converged reference's balance, its work integrated with the motion."""
+def custom_balance(case: Case):
+    """The balance of custom_sim's run of the scene, W by its integrator's own rule."""
+    from ..energy import balance
+    run = case.trajectory()
+    return balance(case.scene, run.t, run.states(), run.integrator)
+
+
+def mujoco_balance(case: Case):
+    """The balance of MuJoCo's native run (the scene's own mapping), from its states."""
+    from ..energy.mujoco_side import native_from_run
+    twin = case.mujoco(case.scene.mujoco.solref)
+    return native_from_run(case.scene, twin.t, twin.states(), twin.integrator,
+                           twin.meta.get("solref_mapping", "penalty"))
+
+
+def reference_balance(case: Case):
+    """The converged reference's balance, its work integrated with the motion (None without a
+    reference, or a reference that carries no work)."""
     from ..energy.balance import Balance
     from ..energy.terms import energy
     from ..energy.law import body_of
-
-    E = energy(scene, body_of(scene), ref.states)
+    from ..oracle.reference import ReferenceError as NoReference
+    try:
+        ref = case.reference()
+    except NoReference:
+        return None
+    if getattr(ref, "work", None) is None:
+        return None
+    E = energy(case.scene, body_of(case.scene), ref.states)
     return Balance(ref.t, E, ref.work, E - E[0] + ref.work.sum(axis=1), "integrated with the motion (DOP853, the "
                    "reference's tolerance)", "reference", np.zeros(6))
 

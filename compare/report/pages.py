@@ -32,13 +32,11 @@ def _write_atomically(path: Path, text: str) -> None:
     write_text_atomically(path, text)
 
 
-def _write_csv(run, path: Path, scene_only: bool) -> None:
-    """A run's CSV file; the text of custom_sim's and MuJoCo's runs, which depend on the scene
-    alone, comes from the cache of scene-only work."""
-    if scene_only:
-        path.write_text(cached(csv_text)(run), encoding="utf-8")
-    else:
-        write_csv(run, path)
+def run_csv(case, which: str) -> str:
+    """The CSV file of custom_sim's run of the case's scene (which "custom") or of MuJoCo's
+    native twin with the scene's own mapping ("mujoco"): scene-only work, kept in the cache."""
+    run = case.trajectory() if which == "custom" else case.mujoco(case.scene.mujoco.solref)
+    return csv_text(run)
 
 
 def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
@@ -48,11 +46,11 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
     tmp = temporary_folder(out, prefix=f".{scene.name}.")   # the umask's permissions, not 0700
     try:
         data = metrics_json(result)
-        _write_csv(result.custom, tmp / "trajectory_custom.csv", scene_only=True)
-        _write_csv(result.mujoco, tmp / "trajectory_mujoco.csv", scene_only=True)
+        for which in ("custom", "mujoco"):
+            (tmp / f"trajectory_{which}.csv").write_text(cached(run_csv)(result.case, which), encoding="utf-8")
         tested, twin = result.under_test, result.mujoco
         if tested is not result.custom:
-            _write_csv(tested, tmp / "trajectory_user.csv", scene_only=False)
+            write_csv(tested, tmp / "trajectory_user.csv")
         (tmp / "model.xml").write_text(mjcf)
         diffs = metrics.differences(tested, twin)
         shown = (tested, twin) if tested is result.custom else (tested, result.custom, twin)

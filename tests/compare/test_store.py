@@ -99,3 +99,49 @@ def test_the_cache_is_trimmed_to_its_limit(cache_on, monkeypatch):
     monkeypatch.setattr(store, "CACHE_BYTES", size // 4)
     store.trim()
     assert sum(p.stat().st_size for p in cache_on.rglob("*") if p.is_file()) <= size // 4
+
+
+def test_a_users_rerun_computes_only_what_depends_on_their_simulator(cache_on, tmp_path, monkeypatch):
+    """A second run of a user's simulator takes every scene-only result from the cache: custom_sim's
+    and MuJoCo's runs and the reference, their CSV files and energy balances; the files written
+    are the first run's, byte for byte, the user's own CSV (computed again) included."""
+    import argparse
+    import functools
+    from pathlib import Path
+
+    from compare.checks import scenario
+    from compare.commands.run import run_one
+    from compare.report import pages
+    from compare.usersim import for_run
+
+    root = Path(__file__).resolve().parents[2]
+    scene = dataclasses.replace(load("point_drop"), duration=0.3)
+    simulator = for_run(argparse.Namespace(sim=f"{root}/examples/seed_sim.py:step", whole=False,
+                                           trajectories=None, law=None), [scene])
+    scene_only = {(pages, "run_csv"), (scenario, "custom_balance"), (scenario, "mujoco_balance"),
+                  (scenario, "reference_balance")}
+    calls = []
+    for module, name in scene_only:
+        original = getattr(module, name)
+
+        @functools.wraps(original)   # the store keys a call by the function's module and name
+        def call(*args, _original=original, **kwargs):
+            calls.append(_original.__name__)
+            return _original(*args, **kwargs)
+        monkeypatch.setattr(module, name, call)
+    files = []
+    for run in ("first", "second"):
+        calls.clear()
+        before = store.counts()["misses"]
+        (tmp_path / run).mkdir()
+        outcome = run_one(scene, str(tmp_path / run), simulator)
+        assert outcome.row is not None, outcome
+        files.append({p.name: p.read_bytes() for p in (tmp_path / run / scene.name).glob("*.csv")})
+        if run == "first":
+            assert sorted(calls) == sorted(["run_csv", "run_csv", "custom_balance", "mujoco_balance",
+                                            "reference_balance"]), calls
+            assert store.counts()["misses"] > before
+    assert calls == [], f"the second run computed scene-only work again: {calls}"
+    assert store.counts()["misses"] == before, "the second run computed scene-only work again"
+    assert sorted(files[0]) == ["trajectory_custom.csv", "trajectory_mujoco.csv", "trajectory_user.csv"]
+    assert files[0] == files[1]

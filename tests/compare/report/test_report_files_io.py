@@ -51,14 +51,14 @@ def test_the_index_is_written_with_the_umask_permissions(tmp_path, umask):
 def _stub_report(monkeypatch, data):
     """write_scenario with its content stubbed: only its folder, its files and metrics.json."""
     monkeypatch.setattr(pages, "metrics_json", lambda result: data)
-    monkeypatch.setattr(pages, "csv_text", lambda traj: "t\n0\n")
+    monkeypatch.setattr(pages, "run_csv", lambda case, which: "t\n0\n")
     monkeypatch.setattr(pages.metrics, "differences", lambda a, b: None)
     monkeypatch.setattr(pages.plots, "draw_all", lambda figures, warnings: {}, raising=False)
     for name in ("states", "path_in_plane", "error", "energy", "snapshots", "step_residuals"):
         monkeypatch.setattr(pages.plots, name, lambda *a, **k: None)
     monkeypatch.setattr(pages, "scenario_page", lambda result, data, figures: "# page\n")
     run = SimpleNamespace()
-    return SimpleNamespace(scene=SimpleNamespace(name="huge"), custom=run, mujoco=SimpleNamespace(),
+    return SimpleNamespace(scene=SimpleNamespace(name="huge"), custom=run, mujoco=SimpleNamespace(), case=None,
                            under_test=run, residuals={}, checks=[], reference=None, warnings=[])
 
 
