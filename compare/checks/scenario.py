@@ -63,6 +63,8 @@ class Result:
     law_differences: list = field(default_factory=list)  # `run --law`: each effect that differs from the scene's
     balances: dict = field(default_factory=dict)      # simulator -> compare.energy.Balance (E, W, R)
     case: Case | None = None                          # the scene and the runs its checks shared
+    stable_dt: float = float("inf")                   # s, the theory's stable step for the scene's integrator
+    stable_dt_reason: str = ""                        # what sets it
 
     @property
     def judged(self) -> list[CheckRow]:
@@ -127,7 +129,8 @@ def run_scenario(scene: Scene, simulator=None) -> Result:
 def _run(result: Result, case: Case, simulator) -> None:
     """The scenario, check by check (each row's module is named in the module docstring)."""
     scene = result.scene
-    result.warnings = stability_warnings(scene)
+    warned, result.stable_dt, result.stable_dt_reason = cached(stability)(scene)
+    result.warnings = list(warned)
     tested = runs_under_test(result, case, simulator)
     user = simulator is not None
     result.checks = [
@@ -403,12 +406,14 @@ def reference_error(run: Trajectory, ref_states: np.ndarray) -> dict:
             "angle_error_max": float(np.max(np.abs(d[:, 2])))}
 
 
-def stability_warnings(scene: Scene) -> list[str]:
-    """The line saying which effect's theoretical stability limit the scene's dt exceeds."""
+def stability(scene: Scene) -> tuple[list[str], float, str]:
+    """The theory's stable step for the scene's integrator (s; inf: any) with its reason, and
+    the line saying which effect's limit the scene's dt exceeds (none when within): scene-only
+    work, kept in the cache."""
     from custom_sim.stability import warning
 
-    line = warning(scene)
-    return [line] if line else []
+    limit, line = stable_step(scene), warning(scene)
+    return ([line] if line else []), float(limit), getattr(limit, "reason", "")
 
 
 def metrics_json(result: Result) -> dict:
@@ -417,7 +422,7 @@ def metrics_json(result: Result) -> dict:
 
     scene, tested, twin = result.scene, result.under_test, result.mujoco
     m = result.metrics
-    limit = stable_step(scene)
+    limit = result.stable_dt
     contact = next((c for c in result.checks if c.name == "contact"), None)
     return {
         "name": scene.name,
@@ -452,7 +457,7 @@ def metrics_json(result: Result) -> dict:
         "force_evals_custom": result.custom.force_evals,
         "newton_iterations_custom": result.custom.newton_iterations,
         "stable_dt_theory": None if limit == float("inf") else float(limit),
-        "stable_dt_reason": getattr(limit, "reason", ""),
+        "stable_dt_reason": result.stable_dt_reason,
         "dt_within_stability_limit": not result.warnings,
         "events_custom": events.events(scene, tested),
         "events_mujoco": events.events(scene, twin),

@@ -300,6 +300,8 @@ def prepare_workers() -> None:
     workers inherit it: the dynamics twin's compiled passive-force callback, and the modules of
     the checks and the report (matplotlib, scipy, mujoco: a second or more a process)."""
     import compare.report  # noqa: F401
+    from ..store import prepare
+    prepare()   # joblib and the code's digest, once
     compare.report.prebuild_figures()   # each figure's axes and ticks, built once for every worker
     import compare.checks.attribution  # noqa: F401
     import compare.checks.scenario  # noqa: F401
