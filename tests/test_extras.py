@@ -20,7 +20,8 @@ HIDE = f"import sys\nfor _name in {EXTRAS!r}:\n    sys.modules[_name] = None\n"
 IMPORTS = """
 import json, sys
 import compare, compare.cli
-import compare.commands.run, compare.commands.sweep, compare.tools.accuracy.workprecision, compare.executor
+import compare.commands.run, compare.run.report, compare.run.lines, compare.executor
+import compare.commands.sweep, compare.tools.accuracy.workprecision, compare.tools.sweep.report
 compare.cli.build_parser(everything=True)   # imports every command and tool module
 print(json.dumps(sorted(m for m in sys.modules if m.split(".")[0] in EXTRAS)))
 """

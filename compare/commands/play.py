@@ -20,7 +20,6 @@ import sys
 from pathlib import Path
 
 EXIT_OK, EXIT_BAD_INPUT = 0, 2
-DEMO = Path(__file__).resolve().parent.parent / "tools" / "game" / "demo_goal.json"
 
 
 def add_arguments(parser) -> None:
@@ -49,6 +48,7 @@ def _fail(message: str) -> int:
 
 
 def main(args) -> int:
+    from compare.tools.game.demo import DEMO_PATH
     from compare.tools.game.engines import EngineUnavailable, make_engine
     from compare.tools.game.game import Game
     from compare.tools.game.recording import RecordingError, Replay, load
@@ -68,7 +68,7 @@ def main(args) -> int:
 
     replay = None
     if args.replay:
-        path = DEMO if args.replay == "demo" else Path(args.replay)
+        path = DEMO_PATH if args.replay == "demo" else Path(args.replay)
         try:
             recording = load(path)
         except RecordingError as exc:

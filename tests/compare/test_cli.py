@@ -11,6 +11,7 @@ from compare.cli import main
 from compare.scenarios import builtin_names
 from custom_sim import read_csv
 from scene_types.trajectory import CSV_COLUMNS
+from short_scene import short_scene
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -20,14 +21,6 @@ def test_list_shows_every_builtin(capsys):
     out = capsys.readouterr().out
     for name in builtin_names():
         assert name in out
-
-
-def short_scene(tmp_path, builtin="point_drop", duration=0.4):
-    text = (ROOT / "scenarios" / f"{builtin}.toml").read_text()
-    text = "\n".join(f"duration = {duration}" if line.startswith("duration") else line for line in text.splitlines())
-    path = tmp_path / f"{builtin}_short.toml"
-    path.write_text(text)
-    return path
 
 
 def test_run_writes_the_contract_files(tmp_path):

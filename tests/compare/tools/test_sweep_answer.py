@@ -6,7 +6,8 @@ from __future__ import annotations
 from markdown_table import rows
 
 from compare.tools.accuracy.workprecision import Run, SceneSweep
-from compare.commands.sweep import answer, cheapest_table
+from compare.tools.sweep.answer import answer
+from compare.tools.sweep.cheapest import cheapest_table
 from compare.scenarios import load
 
 

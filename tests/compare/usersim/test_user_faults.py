@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from compare.cli import main
-from compare.commands.run import failure_text, verdict_line
+from compare.run.lines import failure_text, verdict_line
 from compare.scenarios import load
 from compare.usersim import UserCodeError, UserFault, load_simulator, preflight, run_user
 from compare.usersim.errors import UserDiverged
@@ -183,8 +183,8 @@ SLOW = "import time\ndef step(z, scene, dt):\n    time.sleep(0.01)\n    return _
 
 
 def test_a_slow_step_shows_progress_and_times_out(tmp_path, capfd):
-    from compare.commands.run import run_one
-    from compare.commands.run import run_scenes
+    from compare.run.outcome import run_one
+    from compare.run.processes import run_scenes
 
     sim = load_simulator(write(tmp_path, SLOW) + ":step")
     scene = load("point_drop")   # 50000 steps at 10 ms: far beyond the timeout

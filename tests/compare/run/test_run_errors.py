@@ -8,25 +8,24 @@ import os
 
 import pytest
 
-from compare.commands import run as run_command
+from compare.run.outcome import one_line, run_one
+from compare.run.processes import run_scenes
 from compare.scenarios import load
-from test_cli import short_scene
+from short_scene import short_scene
 
 DYING = "point_drop_short"
-RUN_ONE = run_command.run_one
 
 
 def dying_worker(scene, out, simulator=None):
     """A worker that is killed while running one scene (as a segfault in compiled code would)."""
     if scene.name == DYING:
         os._exit(70)
-    return RUN_ONE(scene, out, simulator)
+    return run_one(scene, out, simulator)
 
 
 def test_a_worker_that_dies_costs_only_its_scenario(tmp_path, monkeypatch):
     scenes = [load(str(short_scene(tmp_path, "point_drop", 0.3))),
               load(str(short_scene(tmp_path, "box_slide", 0.3)))]
-    from compare.commands.run import run_scenes
     out = tmp_path / "out"
     out.mkdir()
     outcomes = run_scenes(scenes, lambda s: dying_worker(s, str(out)), jobs=2)
@@ -46,7 +45,7 @@ def test_an_exception_in_a_scenario_becomes_its_error_row(tmp_path, monkeypatch)
     scene = load(str(short_scene(tmp_path, "point_drop", 0.2)))
     out = tmp_path / "out"
     out.mkdir()
-    outcome = run_command.run_one(scene, str(out))
+    outcome = run_one(scene, str(out))
     assert outcome.row is None
     status, cause = outcome.failure
     assert status == "error"
@@ -56,4 +55,4 @@ def test_an_exception_in_a_scenario_becomes_its_error_row(tmp_path, monkeypatch)
 
 @pytest.mark.parametrize("exc, expected", [(ValueError("a\nb"), "ValueError: a"), (RuntimeError(""), "RuntimeError")])
 def test_one_line_cause(exc, expected):
-    assert run_command.one_line(exc) == expected
+    assert one_line(exc) == expected

@@ -1,0 +1,27 @@
+"""`run --law`: the contact law every check judges the scenes under, in place of each scene's own."""
+from __future__ import annotations
+
+
+def under_law(scenes, law: str, simulator):
+    """The scenes under `--law`: a law file's [contact] laid over each scene's, or the law
+    `identify` finds in the simulator under test (its bad input raised before anything runs)."""
+    from scene_types import BadInput
+    from scene_types.law_file import load_law, with_law
+
+    if law != "identified":
+        table = load_law(law)
+        return [with_law(s, table, law) for s in scenes]
+    if simulator is None:
+        raise BadInput("--law identified: expected --sim MODULE:FUNCTION (a step function, or with --whole "
+                       "a whole run) or --trajectories DIR, whose law `identify` can find")
+    from ..identify import NotIdentified, identified_contact, identify
+    from ..usersim import UserCodeError, UserFault
+    out = []
+    for scene in scenes:
+        try:
+            out.append(with_law(scene, identified_contact(scene, identify(simulator, scene)), "identified"))
+        except NotIdentified as exc:
+            raise BadInput(f"--law identified: {exc} (`python -m compare identify` shows each effect)") from None
+        except UserFault as exc:
+            raise UserCodeError(f"--law identified: {exc}", getattr(exc, "details", "")) from None
+    return out

@@ -1,0 +1,59 @@
+"""What `run` prints: one line per scenario that ran (pass, FAIL with each failed check's
+component and value in m, rad or per step, or not judged), and one line on the cache."""
+from __future__ import annotations
+
+
+def _number(value, unit: str) -> str:
+    return "–" if value is None else f"{value:.3e} {unit}"
+
+
+def failure_text(check) -> str:
+    """What a failed check (a CheckRow) measured: the component and value that left the tolerance."""
+    label, d = check.label, check.details
+    if d.get("first_residual") is not None:   # step: per component, per step
+        return (f"{label}: {d['component']} off by {d['first_residual']:.3e} at step {d['first_step']} "
+                f"(t = {d['first_time']:.6g} s, {d['phase']}), round-off bound {d['first_bound']:.3e}")
+    parts = []
+    pos, tol_p = check.position_error_max, check.tolerance_position
+    ang, tol_a = check.angle_error_max, check.tolerance_angle
+    if pos is not None and tol_p is not None and pos > tol_p:
+        parts.append(f"position {pos:.3e} m (tolerance {tol_p:.3e} m)")
+    if ang is not None and tol_a is not None and ang > tol_a:
+        parts.append(f"angle {ang:.3e} rad (tolerance {tol_a:.3e} rad)")
+    if d.get("component_first_over") and d.get("first_step_over") is not None:
+        parts.append(f"first at step {d['first_step_over']}, in {d['component_first_over']}")
+    if not parts:   # failed on something else (a non-finite state, ...): its reason says what
+        parts.append(check.reason or f"position {_number(pos, 'm')}, angle {_number(ang, 'rad')}")
+    return f"{label}: " + ", ".join(parts)
+
+
+def verdict_line(row: dict) -> str:
+    """The line `run` prints for a scenario that ran (its metrics.json): pass (with what was not
+    judged), FAIL (each failed check's component and value), or not judged."""
+    from ..checks.row import CheckRow
+    from ..checks.scenario import SHOWN
+
+    name = row["name"]
+    checks = [CheckRow.from_json(c) for c in row["checks"]]
+    judged = [c for c in checks if c.passed is not None]
+    skipped = [c.label for c in checks if c.passed is None and c.name not in SHOWN]
+    note = f"; not judged: {', '.join(skipped)} (see the page)" if skipped else ""
+    if not judged:
+        return f"{name:<20} not judged: no check could be judged ({', '.join(skipped) or 'none'}; see the page)"
+    if row["pass"]:
+        return f"{name:<20} pass  {len(judged)} checks within tolerance{note}"
+    return f"{name:<20} FAIL  " + "; ".join(failure_text(c) for c in checks if c.passed is False)
+
+
+def cache_line(rows: list[dict]) -> str:
+    """What came from the cache of scene-only work (compare/store.py), in one line."""
+    from ..store import folder
+
+    where = folder()
+    if where is None:
+        return "cache: off (scene-only work computed)"
+    hits = sum(r["cache"]["hits"] for r in rows if "cache" in r)
+    misses = sum(r["cache"]["misses"] for r in rows if "cache" in r)
+    whole = sum(1 for r in rows if r.get("cache", {}).get("hits") and not r["cache"]["misses"])
+    return (f"cache: {hits} of {hits + misses} scene-only runs from {where} ({whole} of {len(rows)} scenarios "
+            f"wholly; --no-cache recomputes)")

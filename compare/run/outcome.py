@@ -1,0 +1,46 @@
+"""A scenario's process (run_one) and what it sends back (Outcome), with one_line, the one-line
+cause an error row shows."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+
+@dataclass
+class Outcome:
+    """What one scenario's process sent back: exactly one field is set."""
+
+    row: dict | None = None            # metrics.json of a scenario that reached a verdict
+    failure: tuple | None = None       # (status, why): no verdict (error, unstable, timeout)
+    bad_input: tuple | None = None     # (message, details): the user's code broke the protocol
+    details: str = ""                  # with a failure: the user's own traceback, where their code raised
+
+
+def one_line(exc: BaseException) -> str:
+    """`Type: first line of the message`: the cause a report row shows."""
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
+
+
+def run_one(scene, out: str, simulator=None):
+    """A scenario's process: run, judge and write it into `out`. Returns an Outcome: the
+    metrics.json dict; or (status, cause) when no verdict could be reached; or the bad input
+    the user's code gave (the whole run then writes nothing). Never raises."""
+    from ..usersim import UserCodeError
+    try:
+        from mujoco_models import to_mjcf
+
+        from ..report import write_scenario
+        from ..checks.scenario import run_scenario
+
+        from ..store import counts
+
+        result = run_scenario(scene, simulator)
+        if result.error:
+            return Outcome(failure=(result.status, result.error), details=result.error_details)
+        row = write_scenario(result, Path(out), to_mjcf(scene))
+        return Outcome(row={**row, "cache": counts()})
+    except UserCodeError as exc:
+        return Outcome(bad_input=(str(exc), exc.details))
+    except Exception as exc:  # noqa: BLE001 - becomes the scenario's error row
+        return Outcome(failure=("error", one_line(exc)))

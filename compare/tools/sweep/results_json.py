@@ -1,0 +1,24 @@
+"""results.json: the sweep as numbers, per scene its reference, MuJoCo's converged solution, every
+run (m, rad, s, J) and every stability limit (s), with the answer in words beside them."""
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+from ...report.atomic import finite_json
+from .answer import answer
+
+
+def write_json(results, path: Path, runtime: float, jobs: int) -> None:
+    """Every scene of results, the sweep's runtime (s) and worker count; states are left out."""
+    doc = {"runtime_s": runtime, "jobs": jobs, "scenes": []}
+    for sweep in results:
+        ref = {k: v for k, v in sweep.reference.items() if k != "states"}
+        conv = {k: v for k, v in sweep.mujoco_converged.items() if k != "states"}
+        doc["scenes"].append({
+            "name": sweep.scene.name, "reference": ref, "mujoco_converged": conv,
+            "cheapest_to_1mm": answer(sweep),
+            "runs": [r.as_dict() for r in sweep.runs],
+            "stability": [dataclasses.asdict(lim) for lim in sweep.stability],
+        })
+    path.write_text(finite_json(doc, indent=1))
