@@ -110,7 +110,7 @@ def test_a_users_rerun_computes_only_what_depends_on_their_simulator(cache_on, t
     from pathlib import Path
 
     from compare.checks import scenario
-    from compare.commands.run import run_one
+    from compare.run.outcome import run_one
     from compare.report import pages
     from compare.usersim import for_run
 
