@@ -11,6 +11,7 @@ velocity vc_y = vy + omega r_x (m/s)
 
     chattering_point(model, points, z, watch)   the compiled tracker, after every step
     unstable_law(scene, integrator)             why no step is stable under a bare sign law
+    unsolved_stick(scene, integrator)           why implicit Euler may chatter there all the same
 
 Why a flip at every step is numerical, never physical, and what sets the constants:
 docs/stability.md#definition.
@@ -107,20 +108,44 @@ def chattering_point_at(model, points, z, cs, sn, watch):
 def unstable_law(scene, integrator: str | None = None) -> str | None:
     """Why no step size is stable for the scene's law under an explicit integrator (default:
     the scene's): a bare sign friction or rolling law (docs/stability.md#definition). None when
-    some step is, and for implicit Euler, which sticks (integrators.implicit_euler_step)."""
+    some step is, and for implicit Euler, which no step size limits (but see unsolved_stick)."""
     method = integrator or scene.integrator
-    ct, why = scene.contact, []
-    if scene.has("friction") and ct.friction_law == "sign":
-        why.append("friction_law 'sign' (bare Coulomb) kicks a contact point's slip by h mu Fn / m_t "
-                   "each step, never to zero")
-    if scene.has("rolling_friction") and ct.roll_law == "sign":
-        why.append("roll_law 'sign' kicks a disk's spin by h mu_roll Fn / I each step, never to zero")
+    why = [f"{law} {kick}" for law, kick in _kicks(scene)]
     if not why or method == "implicit_euler":
         return None
     if method == "rk4":
-        what = ("RK4's four stages straddle the jump and cancel, so the motion creeps on at a "
-                "constant speed below half a kick instead of stopping")
+        what = ("RK4's four stages straddle the jump: under a steady load they cancel, so the motion "
+                "creeps on at a constant speed below half a kick instead of stopping, and under a changing "
+                "one, as a point bounces, the slip can flip every step: chatter")
     else:
         what = "where it should stick the slip flips sign every step for ever: chatter"
     return (f"{'; '.join(why)}: no step size is stable for {method} ({what}); use a regularised "
             "law (tanh, ramp, smooth_coulomb) or implicit_euler")
+
+
+def _kicks(scene) -> list[tuple[str, str]]:
+    """The scene's bare sign laws: (the law, the kick it gives a point per explicit step)."""
+    ct, out = scene.contact, []
+    if scene.has("friction") and ct.friction_law == "sign":
+        out.append(("friction_law 'sign'", "(bare Coulomb) kicks a contact point's slip by h mu Fn / m_t "
+                                           "each step, never to zero"))
+    if scene.has("rolling_friction") and ct.roll_law == "sign":
+        out.append(("roll_law 'sign'", "kicks a disk's spin by h mu_roll Fn / I each step, never to zero"))
+    return out
+
+
+def unsolved_stick(scene, integrator: str | None = None) -> str | None:
+    """Why implicit Euler (default: the scene's integrator) can chatter under a bare sign law
+    though no step size limits it, or None (another integrator, or no bare sign): where a point
+    should stick its equation has no root (the force jumps over the value that would hold it),
+    and the Newton solve ends on the jump, on either side of it; it does not solve the
+    set-valued law, so a body resting on two points can land on alternate sides step after step
+    (integrators.implicit_euler_step; docs/contact-laws.md)."""
+    laws = [law for law, _ in _kicks(scene)]
+    if (integrator or scene.integrator) != "implicit_euler" or not laws:
+        return None
+    return (f"no step size limits implicit_euler, but under {' and '.join(laws)} its equation has no root "
+            "where a point should stick (the force jumps over the value that would hold it), and custom_sim's "
+            "Newton ends on the jump, on either side of it, not on the stick of the set-valued law: a body "
+            "resting on two points can land on alternate sides step after step (chatter); use a regularised "
+            "law (tanh, ramp, smooth_coulomb)")

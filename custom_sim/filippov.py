@@ -67,8 +67,8 @@ def jump_step(model, points, z0, zi, h, fx, fy, tau, counters, work, step_tol, r
             for j in range(3):
                 mat[r, j] = (1.0 if r == j else 0.0) - h * (h * jac[r, j] + jac[r, 3 + j])
                 mat2[r, j] = mat[r, j]
-        solve3(mat, rhs_p, p)
-        solve3(mat2, rhs_w, w)
+        if not solve3(mat, rhs_p, p) or not solve3(mat2, rhs_w, w):
+            return False, it   # singular: lam has run far off (1e12 seen), no jump point this way
         # h grad_q d_j . x  for x = p, w: grad_q d_j = (0, -1, -rot r_x)
         gp = -h * (p[1] + rot * rx * p[2])
         gw = -h * (w[1] + rot * rx * w[2])

@@ -152,7 +152,8 @@ def implicit_euler_step(model, points, z, h, fx, fy, tau, counters, work):
             rhs[r] = -g[r]
             for j in range(3):
                 mat[r, j] = (1.0 if r == j else 0.0) - h * (h * jac[r, j] + jac[r, 3 + j])
-        solve3(mat, rhs, dv)
+        if not solve3(mat, rhs, dv):
+            break   # a singular Newton matrix gives no direction: the jump step below, else unconverged
         size = max(abs(dv[0]), abs(dv[1]), abs(dv[2]))
         for j in range(3):
             v_start[j] = zi[3 + j]

@@ -5,12 +5,13 @@
 """
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
 
 from .bodies import mass_properties
-from .chatter import FLAG, QUANTITY, WATCH_COLUMNS
+from .chatter import FLAG, QUANTITY, WATCH_COLUMNS, unsolved_stick
 from .energy import energy_parts
 from .integrators import (FORCE_EVALS, INTEGRATORS, NEWTON_FAILS, NEWTON_ITERS, NEWTON_MAX,
                           integrate)
@@ -50,7 +51,7 @@ class SimulationDiverged(RuntimeError):
         self.scene, self.integrator, self.dt, self.step, self.state = scene, integrator, dt, step, state
         self.stable_dt = stable_step(scene, integrator)
         super().__init__(f"{scene.name}: {integrator} {self.what()} at step {step} (t = {step * dt:.6g} s) "
-                         f"with dt = {dt:g} s; state {state_text(state)}. {advice(self.stable_dt)}")
+                         f"with dt = {dt:g} s; state {state_text(state)}. {advice(self.stable_dt, scene, integrator)}")
 
     def what(self) -> str:
         return "diverged"
@@ -70,11 +71,18 @@ class SimulationChattered(SimulationDiverged):
         return f"chattered (contact point {self.point}: its {self.quantity} flips sign every step)"
 
 
-def advice(stable_dt) -> str:
+def advice(stable_dt, scene: Scene | None = None, integrator: str | None = None) -> str:
     """The sentence that says which step to take instead: theory's stable step, or, where it is
-    0 for the law (a bare sign law under an explicit method), that no step is (its reason)."""
+    0 for the law (a bare sign law under an explicit method), that no step is (its reason); where
+    theory puts no limit (inf: implicit Euler), that, and under a bare sign law why implicit Euler
+    chatters all the same (chatter.unsolved_stick)."""
     if stable_dt == 0.0 and "no step size is stable" in stable_dt.reason:
         return f"No step size is stable for this law: {stable_dt.reason} (see docs/contact-laws.md)."
+    if stable_dt == math.inf:
+        why = unsolved_stick(scene, integrator) if scene is not None else None
+        if why:
+            return f"{why[0].upper()}{why[1:]} (see docs/contact-laws.md)."
+        return "Theory puts no limit on the step for this scene (see custom_sim/stability.py)."
     return (f"Theory gives a stable step below {stable_dt:.3g} s for this scene "
             f"(see custom_sim/stability.py).")
 

@@ -212,7 +212,9 @@ def scaled_law(contact, f: float):
 def friction_step_number(scene: Scene, states: np.ndarray) -> float:
     """max over the run and the contact points of h mu Fn shape'(v_t) / m_t (tanh: alpha sech^2(alpha v_t)),
     the friction update's h lambda (m_t: 1 / (1/m + r_n^2 / I), r_n the lever normal to the
-    ground); above FRICTION_STABILITY an explicit step amplifies any difference. 0 without friction."""
+    ground); above FRICTION_STABILITY an explicit step amplifies any difference. 0 without friction,
+    and at a point that carries no load (Fn = 0: no friction whatever the slope, the bare sign's
+    infinite one at zero slip too); inf where a loaded point sits on the bare sign's jump."""
     if not (scene.has("contact") and scene.has("friction")):
         return 0.0
     from mujoco_models.rigid_body import rigid_body
@@ -230,7 +232,10 @@ def friction_step_number(scene: Scene, states: np.ndarray) -> float:
     fn = np.where(depth > 0.0, normal_law(ct, depth, vn), 0.0)
     inv_mt = 1.0 / rb.mass + (ry * ry / rb.inertia if rb.rotates else 0.0)
     scale, shape = friction_slope(ct, vt)
-    rate = scene.dt * ct.mu * scale * fn * shape * inv_mt
+    inv_mt = np.broadcast_to(inv_mt, fn.shape)
+    loaded = fn != 0.0
+    rate = np.zeros_like(fn)
+    rate[loaded] = scene.dt * ct.mu * scale * fn[loaded] * shape[loaded] * inv_mt[loaded]
     return float(rate.max())
 
 

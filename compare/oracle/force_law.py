@@ -163,8 +163,9 @@ def rolling_shape(eq: Equations, om, law: Law = SEED_LAW):
     return s, sharp * (1.0 - s * s) * np.abs(om)
 
 
-def _friction(eq: Equations, law: Law, fn, fn_scale, acting, vx2, om2, vcx, r_err):
-    """(Ft, Ft's round-off scale), each (N, n) N, at the acting points."""
+def _friction(eq: Equations, law: Law, fn, fn_scale, acting, vx2, om2, vcx, r_err, jumps: bool = True):
+    """(Ft, Ft's round-off scale), each (N, n) N, at the acting points; jumps: add the bare
+    sign's jump where rounding decides its side (see accelerations)."""
     slip = vcx if law.slip_velocity == "contact" else vx2 * np.ones_like(vcx)
     load = fn if law.friction_load == "point" else fn.sum(axis=1, keepdims=True) * acting
     load_scale = fn_scale if law.friction_load == "point" else fn_scale.sum(axis=1, keepdims=True) * acting
@@ -175,17 +176,20 @@ def _friction(eq: Equations, law: Law, fn, fn_scale, acting, vx2, om2, vcx, r_er
                                          * (np.abs(vx2) + np.abs(om2) * r_err)), 0.0)
     turning = om2 if law.slip_velocity == "contact" else np.zeros_like(om2)   # vx itself rounds nowhere
     undecided = sign_undecided(eq, slip, vx2, turning, r_err, law) & acting
-    if undecided.any():
+    if jumps and undecided.any():
         # a jump of 2 mu |Fn| that rounding may or may not take, entered as its size over eps
         ft_scale = ft_scale + np.where(undecided, 2.0 * eq.mu * np.abs(load) / EPS, 0.0)
     return ft, ft_scale
 
 
-def accelerations(eq: Equations, Z: np.ndarray, law: Law = SEED_LAW, touching=None):
+def accelerations(eq: Equations, Z: np.ndarray, law: Law = SEED_LAW, touching=None, jumps: bool = True):
     """(a, scale): accelerations (ax, ay, alpha_theta) of shape (N, 3) in m/s^2, m/s^2, rad/s^2
     at the states Z (N, 6), and the round-off scale of each (same units, see the module docstring).
     touching (N, n) bool, optional: which points act, instead of d > 0 (to evaluate both sides
-    of a contact switch at one state)."""
+    of a contact switch at one state). jumps: the scale includes a bare sign's jump 2 mu |Fn|
+    (over eps) where the slip is within its round-off of zero (sign_undecided), the difference
+    two codes may take; False leaves it out, for telling a root of an equation from a point on
+    that jump (the jump is no rounding of a root)."""
     Z = np.atleast_2d(Z)
     y, theta, vx, vy, om = Z[:, 1], Z[:, 2], Z[:, 3], Z[:, 4], Z[:, 5]
     n_rows = Z.shape[0]
@@ -216,7 +220,7 @@ def accelerations(eq: Equations, Z: np.ndarray, law: Law = SEED_LAW, touching=No
         ft = np.zeros_like(fn)
         ft_scale = np.zeros_like(fn)
         if eq.friction:
-            ft, ft_scale = _friction(eq, law, fn, fn_scale, acting, vx2, om2, vcx, r_err)
+            ft, ft_scale = _friction(eq, law, fn, fn_scale, acting, vx2, om2, vcx, r_err, jumps)
         fx += ft.sum(axis=1)
         fy += fn.sum(axis=1)
         tau += law.torque_sign * (rx * fn - ry * ft).sum(axis=1)

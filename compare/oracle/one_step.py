@@ -129,10 +129,11 @@ def rk4(eq: Equations, Z, h, law: Law = SEED_LAW):
     return Z1, np.hstack([bq, bv]), None
 
 
-def implicit_residual(eq: Equations, Z, V, h, law: Law = SEED_LAW):
-    """G(v1) = v1 - v0 - h a(q0 + h v1, v1) (N, 3) m/s, and the round-off scale of a there."""
+def implicit_residual(eq: Equations, Z, V, h, law: Law = SEED_LAW, jumps: bool = True):
+    """G(v1) = v1 - v0 - h a(q0 + h v1, v1) (N, 3) m/s, and the round-off scale of a there
+    (jumps False: without a bare sign's undecided jump, force_law.accelerations)."""
     Zi = np.hstack([Z[:, :3] + h * V, V])
-    a, scale = accelerations(eq, Zi, law)
+    a, scale = accelerations(eq, Zi, law, jumps=jumps)
     return V - Z[:, 3:] - h * a, scale
 
 
@@ -141,11 +142,15 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
     forward-difference Jacobian (the kinks of the law make an analytic one no better). Returns
     (Z1, bound, solved): solved (N,) is False where no root was found, which happens where G
     jumps over zero (a damper engaging with c |vc_y| at touchdown, judged by jump_defect; a
-    bare sign's jump at zero slip or spin, not judged: see undecided): there is no exact step."""
+    bare sign's jump at zero slip or spin, not judged: see undecided): there is no exact step.
+    A root is |G| within G's own round-off, which leaves out a bare sign's jump (jumps=False):
+    a Newton that ends on the jump, a slip within rounding of zero, is left |G| up to the jump's
+    2 h mu Fn / m there, and that is no root whichever side rounding takes. The bound keeps the
+    jump: two codes may take either side of it."""
     v0 = Z[:, 3:]
     a0, _ = accelerations(eq, Z, law)
     V = v0 + h * a0
-    G, scale = implicit_residual(eq, Z, V, h, law)
+    G, scale = implicit_residual(eq, Z, V, h, law, jumps=False)
     size = np.max(np.abs(G), axis=1)
     solved = np.zeros(Z.shape[0], dtype=bool)
     stuck = np.zeros(Z.shape[0], dtype=bool)   # no step lowers |G|: at a jump, or at round-off
@@ -163,7 +168,7 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
             step = 1e-7 * (1.0 + np.abs(Vt[:, j]))
             Vp = Vt.copy()
             Vp[:, j] += step
-            Gp, _ = implicit_residual(eq, Zt, Vp, h, law)
+            Gp, _ = implicit_residual(eq, Zt, Vp, h, law, jumps=False)
             jac[:, :, j] = (Gp - Gt) / step[:, None]
         jac[~np.isfinite(jac)] = 0.0
         singular = np.abs(np.linalg.det(jac)) < 1e-300
@@ -176,7 +181,7 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
         for _ in range(30):
             idx = np.flatnonzero(pending)
             Vtr = Vt[idx] + t[idx, None] * dv[idx]
-            Gtr, str_ = implicit_residual(eq, Zt[idx], Vtr, h, law)
+            Gtr, str_ = implicit_residual(eq, Zt[idx], Vtr, h, law, jumps=False)
             s_tr = np.max(np.abs(Gtr), axis=1)
             ok = s_tr <= (1.0 - 1e-4 * t[idx]) * size[todo][idx]
             good = idx[ok]
@@ -191,6 +196,7 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
         stuck[todo[slow[todo] >= SLOW_PATIENCE]] = True
     floor = 4.0 * EPS * np.max(np.abs(V) + h * scale, axis=1)
     solved = size <= np.maximum(OWN_SOLVE_TOL, floor)
+    _, scale = implicit_residual(eq, Z, V, h, law)   # with the jump, for the bound
     q1 = Z[:, :3] + h * V
     bv = _velocity_bound(v0, V, h, scale) + IMPLICIT_SOLVE_TOL
     bq = _position_bound(Z[:, :3], q1, h, V) + h * bv
@@ -198,9 +204,10 @@ def implicit_euler(eq: Equations, Z, h, law: Law = SEED_LAW):
 
 
 NO_UNIQUE_STEP = ("implicit Euler under a bare sign law (friction or rolling 'sign'): the step's equation "
-                  "jumps where a slip or omega crosses zero, and where it has no root its set-valued "
-                  "meaning (the sign anywhere in [-1, 1]) need not have a unique solution, so no step "
-                  "there is the right one: not judged")
+                  "jumps where a slip or omega crosses zero, and where it has no root (the solve ends on "
+                  "the jump) the step means the set-valued law (the sign anywhere in [-1, 1]), which need "
+                  "not have a unique solution and which the oracle's Newton does not solve, so it has no "
+                  "step there to compare with: not judged")
 
 
 def undecided(eq: Equations, solved, law: Law = SEED_LAW) -> np.ndarray | None:

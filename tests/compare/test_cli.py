@@ -57,3 +57,39 @@ def test_unknown_scenario_is_bad_input(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "no_such_scene" in err and "expected" in err
     assert not out.exists()
+
+
+def sign_scene(tmp_path, builtin, integrator, duration):
+    """A built-in scene under the bare sign friction (friction_law = "sign", no alpha), cut short."""
+    lines = []
+    for line in (ROOT / "scenarios" / f"{builtin}.toml").read_text().splitlines():
+        if line.startswith("alpha"):
+            line = 'friction_law = "sign"'
+        elif line.startswith("integrator") and not any(seen.startswith("[") for seen in lines):   # top level
+            line = f'integrator = "{integrator}"'
+        elif line.startswith("duration"):
+            line = f"duration = {duration}"
+        lines.append(line)
+    path = tmp_path / f"{builtin}_sign_{integrator}.toml"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("builtin, integrator", [("box_drop", "implicit_euler"), ("box_drop", "rk4")])
+def test_a_bare_sign_scene_ends_in_a_verdict_and_nothing_else(tmp_path, builtin, integrator):
+    """Under the bare sign the box starts at rest in the air, every slip exactly 0 with no load:
+    the run ends in its verdict line, with no Python warning or traceback on the way and no NaN
+    in metrics.json (about 20 s)."""
+    pytest.importorskip("mujoco_models")
+    scene = sign_scene(tmp_path, builtin, integrator, 0.4)
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-W", "default", "-m", "compare", "run", str(scene), "--out", str(out)],
+                          capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode in (0, 1), proc.stderr
+    assert "Warning" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+    name = scene.stem
+    verdict = next(line for line in proc.stdout.splitlines() if line.startswith(name))
+    assert verdict.split()[1] in ("pass", "FAIL", "unstable:"), verdict
+    data = json.loads((out / name / "metrics.json").read_text())
+    assert all(entry["value"] != "nan" for entry in data.get("non_finite", [])), data["non_finite"]

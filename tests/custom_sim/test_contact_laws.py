@@ -293,6 +293,37 @@ def test_sign_rolling_law_decelerates_a_disk_at_2_mu_roll_g_over_3_r_then_chatte
     assert "roll_law 'sign'" in str(caught.value) and "No step size is stable" in str(caught.value)
 
 
+def test_implicit_euler_under_the_sign_stopped_by_chatter_says_why_not_a_step():
+    """Implicit Euler has no step limit under a bare sign law (theory's stable step is inf), so a
+    chatter there cannot be answered with a smaller step: the message says what does happen (its
+    Newton ends on the jump, not on the set-valued stick) and never offers "a stable step below
+    inf s"."""
+    from custom_sim.runner import SimulationChattered as Chattered
+
+    for scene, law in ((with_contact(load("t_shape_drop"), friction_law="sign", alpha=None), "friction_law 'sign'"),
+                       (with_contact(load("rolling_circle"), roll_law="sign", roll_sharpness=None), "roll_law 'sign'")):
+        scene = dataclasses.replace(scene, integrator="implicit_euler")
+        assert stable_step(scene) == math.inf
+        text = str(Chattered(scene, "implicit_euler", scene.dt, 10, np.zeros(6), 0, "slip velocity"))
+        assert law in text and "no root where a point should stick" in text and "regularised law" in text
+        assert "inf s" not in text
+    tanh = dataclasses.replace(load("t_shape_drop"), integrator="implicit_euler")
+    text = str(Chattered(tanh, "implicit_euler", tanh.dt, 10, np.zeros(6), 0, "slip velocity"))
+    assert "puts no limit on the step" in text and "inf s" not in text
+
+
+@pytest.mark.slow
+def test_t_shape_resting_on_two_points_under_the_sign_chatters_under_implicit_euler():
+    """The T of t_shape_drop under the sign comes to rest on a bar end and the stem's foot; the
+    set-valued law would hold both stuck, but implicit Euler's Newton lands on alternate sides
+    of the jump, and the run stops as chatter, explained (about 5 s)."""
+    scene = dataclasses.replace(with_contact(load("t_shape_drop"), friction_law="sign", alpha=None),
+                                integrator="implicit_euler")
+    with pytest.raises(SimulationChattered) as caught:
+        simulate(scene)
+    assert "no root where a point should stick" in str(caught.value) and "inf s" not in str(caught.value)
+
+
 # ---------------------------------------------------------------------------------------
 # Stability theory per law
 

@@ -230,3 +230,41 @@ def test_fast_impact_at_its_former_step_lands_on_the_jump():
     row = check_step(scene, tr.states(), "implicit_euler", dt)
     assert row.details["no_root_steps"] >= 1, "the window no longer holds the jump it tests"
     assert row.passed is True and tr.meta["newton_unconverged_steps"] == 0, (row.details["first_step"], row.details["phase"])
+
+
+def test_solve3_reports_a_singular_matrix_instead_of_dividing_by_zero():
+    """Two proportional rows: elimination leaves an exact zero pivot. The compiled solve (Python's
+    error model, where 1 / 0 raises) says so with False; a regular system it solves."""
+    from custom_sim.linear3 import solve3
+
+    singular = np.array([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [1.0, 0.0, 1.0]])
+    assert solve3(singular.copy(), np.ones(3), np.zeros(3)) is False
+    regular = np.array([[4.0, 1.0, 0.0], [1.0, 3.0, 1.0], [0.0, 1.0, 2.0]])
+    b, x = np.array([1.0, 2.0, 3.0]), np.zeros(3)
+    assert solve3(regular.copy(), b.copy(), x) is True
+    assert np.allclose(regular @ x, b, rtol=0.0, atol=1e-15)
+
+
+# box_slide under the sign friction at h = 1e-2 s, standing on a corner at theta = -1.65 rad
+# and barely turning: implicit Euler's Newton stalls on the friction's jump, and the touchdown
+# jump step tried there runs its lam off to 1e12, where its Newton matrix is singular to the bit.
+SINGULAR_JUMP_STATE = [0.0, 0.0997051715381252, -1.6461623677238917, -0.0, 0.0, 0.00016270994544930405]
+
+
+def test_a_step_whose_jump_newton_turns_singular_ends_as_an_unconverged_step():
+    """That step raised ZeroDivisionError out of the compiled loop. A singular Newton matrix
+    gives no direction: the jump step is not taken, and the step ends where the damped Newton
+    left it, finite, counted as one unconverged solve (the sign law has no root there)."""
+    import dataclasses
+
+    from compare.scenarios import load
+    from custom_sim import Stepper
+
+    base = load("box_slide")
+    scene = dataclasses.replace(base, integrator="implicit_euler", dt=1e-2,
+                                contact=dataclasses.replace(base.contact, friction_law="sign", alpha=None))
+    stepper = Stepper(scene, watch_chatter=False)
+    stepper.reset(SINGULAR_JUMP_STATE)
+    state = stepper.advance(1)
+    assert np.all(np.isfinite(state))
+    assert stepper.counters[3] == 1

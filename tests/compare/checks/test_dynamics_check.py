@@ -4,6 +4,7 @@ stays bit for bit the same (it shares nothing with custom_sim)."""
 import dataclasses
 import importlib
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -168,3 +169,21 @@ def test_a_lifted_cap_is_caught(monkeypatch):
     monkeypatch.setattr(dynamics_check, "MOTION_SHARE", 10.0)
     row, breaches = twin_breaches(barely_turning())
     assert row.tolerance_angle == ROUNDOFF_FLOOR_ANGLE and breaches
+
+
+def test_friction_step_number_under_the_bare_sign_is_its_slope_where_a_point_is_loaded():
+    """The friction update's h mu Fn shape'(v) / m_t under the bare sign: its slope is 0 off zero
+    slip and infinite at it, and a point in the air (Fn = 0) has no friction at all. A box at
+    rest in the air (every slip exactly 0) gives 0, with no warning (0 x inf is no rate); the
+    same box resting on the ground gives inf (no explicit step is stable); sliding, 0."""
+    scene = dataclasses.replace(load("box_drop"), contact=dataclasses.replace(
+        load("box_drop").contact, friction_law="sign", alpha=None))
+    rest = scene.body.mass * scene.g / (2 * scene.contact.k)   # the flat box's sag on its two corners, m
+    air = np.array([[0.0, 0.3, 0.0, 0.0, 0.0, 0.0]])
+    resting = np.array([[0.0, 0.05 - rest, 0.0, 0.0, 0.0, 0.0]])
+    sliding = np.array([[0.0, 0.05 - rest, 0.0, 0.5, 0.0, 0.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert dynamics_check.friction_step_number(scene, air) == 0.0
+        assert dynamics_check.friction_step_number(scene, resting) == np.inf
+        assert dynamics_check.friction_step_number(scene, sliding) == 0.0
