@@ -46,8 +46,12 @@ def check_healthy(run: UserRun, scene: Scene, label: str) -> None:
         integrator, step = run.integrator, stable_step(scene, run.integrator)
     except (KeyError, ValueError):
         integrator, step = scene.integrator, stable_step(scene)
-    limit = (f"; for {integrator} custom_sim's theory gives a stable step below {step:.3g} s for this scene"
-             if step > 0.0 else f"; for {integrator} no step is stable for this scene: {step.reason}")
+    if step == float("inf"):
+        limit = f"; for {integrator} custom_sim's theory puts no limit on the step for this scene"
+    elif step > 0.0:
+        limit = f"; for {integrator} custom_sim's theory gives a stable step below {step:.3g} s for this scene"
+    else:
+        limit = f"; for {integrator} no step is stable for this scene: {step.reason}"
     raise UserDiverged(f"{label} diverged at step {bad} (t = {bad * scene.dt:.6g} s, dt = {scene.dt:g} s): "
                        f"state {state_text(states[bad])} is beyond the healthy range (|x|, |y| up to 1e6 m, "
                        f"speeds up to 1e5, energy at most 10 times the start){limit}")

@@ -426,3 +426,29 @@ def test_dynamics_with_a_files_rounding_still_fails_a_mistake(tmp_path):
         rows[name] = check_dynamics(scene, run.states(), scene.integrator, scene.dt, run.meta["rounding"])
     assert rows["right"].passed is True, rows["right"].reason
     assert rows["wrong"].passed is False, (rows["wrong"].position_error_max, rows["wrong"].tolerance_position)
+
+
+@pytest.mark.parametrize("integrator, says", [
+X
+    ("implicit_euler", "puts no limit on the step for this scene"),   # A-stable: theory has no limit
+])
+def test_a_user_run_that_leaves_the_healthy_range_names_the_step_and_the_stable_step(integrator, says):
+    """The divergence of a user's run names its step and state, and what custom_sim's theory
+    says of the step for the integrator the user declared: never 'a stable step below inf s'."""
+    from compare.scenarios import load
+    from compare.usersim.base import UserRun
+    from compare.usersim.errors import UserDiverged
+    from compare.usersim.run_user import check_healthy
+
+    scene = load("box_drop")
+    states = np.tile(np.array(scene_state0(scene)), (6, 1))
+    states[4, 1] = 1e7   # m: beyond the healthy range from step 4
+    with pytest.raises(UserDiverged) as raised:
+        check_healthy(UserRun(states, None, None, integrator), scene, "my_sim.py:step")
+    text = str(raised.value)
+    assert "diverged at step 4" in text and says in text and "inf s" not in text, text
+
+
+def scene_state0(scene):
+    from compare.usersim.scene_dict import scene_dict
+    return scene_dict(scene)["state0"]
