@@ -118,7 +118,7 @@ def _run_batch(floats, switches, points, n_points, z0, dt, steps, methods, guard
         failed[b] = stop
         final[b] = z
         counters[b] = count
-        last = n if stop < 0 else stop   # rows after the divergence were never written
+        last = n if stop < 0 else stop   # rows after the divergence are not part of the run
         for j in range(n_samples[b]):
             row = sample_rows[b, j]
             if row == 0:

@@ -10,6 +10,7 @@ velocity vc_y = vy + omega r_x (m/s)
      where the friction law is saturated, alpha |v| >= 1 at both ends.
 
     chattering_point(model, points, z, watch)   the compiled tracker, after every step
+    idle(watch), clear_height(points)           when a step leaves the tracker as it is
     unstable_law(scene, integrator)             why no step is stable under a bare sign law
     unsolved_stick(scene, integrator)           why implicit Euler may chatter there all the same
 
@@ -103,6 +104,28 @@ def chattering_point_at(model, points, z, cs, sn, watch):
                     continue
                 watch[p, START_SLIP + q] = abs(v)   # decaying: a stable mode; watch the next window
     return flagged
+
+
+@njit(cache=True)
+def idle(watch):
+    """True when every contact point has been in the air for two steps (its row cleared): then
+    a step that leaves every point in the air changes nothing in the tracker and flags nothing
+    (chattering_point_at skips such a row)."""
+    cleared = 0
+    for p in range(watch.shape[0]):
+        cleared += watch[p, TOUCHED] == CLEARED
+    return cleared == watch.shape[0]
+
+
+@njit(cache=True)
+def clear_height(points):
+    """COM height (m) at and above which no contact point touches the ground, whatever the
+    body's angle: a point's height below the COM, sin l_x + cos l_y rounded, is at most
+    |l_x| + |l_y| rounded (rounding is monotone, and |sin|, |cos| <= 1)."""
+    height = 0.0
+    for p in range(points.shape[0]):
+        height = max(height, abs(points[p, 0]) + abs(points[p, 1]))
+    return height
 
 
 def unstable_law(scene, integrator: str | None = None) -> str | None:

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from .chatter import chattering_point_at
+from .chatter import chattering_point_at, clear_height, idle
 from .filippov import jump_step
 from .forces import acceleration_jacobian, accelerations, accelerations_at, no_point, rotation
 from .implicit_residual import residual
@@ -57,35 +57,38 @@ INTEGRATORS = {
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def euler_step_at(model, points, z, cs, sn, h, fx, fy, tau, semi):
-    """One step of explicit Euler (semi False) or semi-implicit Euler (semi True) of the state
-    array z, in place, the contact points turned by (cs, sn) = rotation(model, z[2]). Both take
-    the acceleration at the start of the step; they differ only in which update comes first,
-    so one body serves both (one inlined copy of the force law instead of two)."""
+def euler_state(model, points, z, cs, sn, h, fx, fy, tau, semi):
+    """One step of explicit Euler (semi False) or semi-implicit Euler (semi True) from the state
+    tuple z, its contact points turned by (cs, sn) = rotation(model, z[2]); returns the new
+    state. Both take the acceleration at the start of the step; they differ only in which update
+    comes first, so one body serves both (one inlined copy of the force law instead of two).
+    The updates are the seed's lines, which compare/tools/mutation edits."""
+    x, y, theta, vx, vy, om = z
     ax, ay, aw = accelerations_at(model, points, z, cs, sn, fx, fy, tau)
     if semi:
         # seed Algorithm 1, lines 7-8: v <- v + (F/m) dt, then p <- p + v dt
-        z[3] += h * ax
-        z[4] += h * ay
-        z[5] += h * aw
-        z[0] += h * z[3]
-        z[1] += h * z[4]
-        z[2] += h * z[5]
+        vx += h * ax
+        vy += h * ay
+        om += h * aw
+        x += h * vx
+        y += h * vy
+        theta += h * om
     else:
         # p <- p + v dt with the old velocity, then v <- v + (F/m) dt
-        z[0] += h * z[3]
-        z[1] += h * z[4]
-        z[2] += h * z[5]
-        z[3] += h * ax
-        z[4] += h * ay
-        z[5] += h * aw
+        x += h * vx
+        y += h * vy
+        theta += h * om
+        vx += h * ax
+        vy += h * ay
+        om += h * aw
+    return (x, y, theta, vx, vy, om)
 
 
 @njit(cache=True)
 def euler_step(model, points, z, h, fx, fy, tau, counters, semi):
-    """euler_step_at() with the points' turn at z; counts its force evaluation."""
+    """euler_state() on the array z, in place; counts its force evaluation."""
     cs, sn = rotation(model, z[2])
-    euler_step_at(model, points, z, cs, sn, h, fx, fy, tau, semi)
+    store(z, euler_state(model, points, as_state(z), cs, sn, h, fx, fy, tau, semi))
     counters[FORCE_EVALS] += 1
 
 
@@ -286,6 +289,38 @@ def first_unhealthy(states, guard):
     return -1
 
 
+# The explicit loop takes its steps in blocks of this many (integrate_explicit): a block's own
+# cost (its bounds' test, the watch's idle test) is spread over its steps, and a block that
+# must be taken again step by step (a landing, the end of a diverging run) repeats at most
+# this many steps: 64 keeps both below 1 % of a step of the cheapest scene (elastic_bounce).
+BLOCK_STEPS = 64
+
+# The bounds of no state, in the form widen keeps: (max of |x| and |y| m, min y m,
+# max of |vx| and |vy| m/s, max |omega| rad/s).
+NO_BOUNDS = (0.0, np.inf, 0.0, 0.0)
+
+
+@njit(cache=True)
+def widen(bounds, z):
+    """bounds (NO_BOUNDS's form) grown to hold the state z (an array or a tuple)."""
+    position, y_low, speed, spin = bounds
+    return (max(position, max(abs(z[0]), abs(z[1]))), min(y_low, z[1]),
+            max(speed, max(abs(z[3]), abs(z[4]))), max(spin, abs(z[5])))
+
+
+@njit(cache=True, error_model="numpy")
+def bounds_healthy(bounds, guard):
+    """True when is_healthy passes every state within bounds (NO_BOUNDS's form), theta aside:
+    it passes the worst of them, |x| = |y| = y = position, |vx| = |vy| = speed, |omega| = spin
+    (y = the lowest for g < 0). Each limit holds at the bound, and the energy is_healthy
+    computes, rounded operation by operation, never falls as a speed grows, nor as y does for
+    g >= 0 (rounding is monotone). It can be twice a state's kinetic energy (vx and vy both at
+    the larger): a block whose energy nears half the limit is taken again step by step."""
+    position, y_low, speed, spin = bounds
+    y = position if guard[0] * guard[2] >= 0.0 else y_low
+    return is_healthy((position, y, 0.0, speed, speed, spin), guard)
+
+
 def integrate(model, points, z, h, n, method, ext, out, counters, guard, watch) -> int:
     """Advance z by n steps of size h (s), writing the state after step i to out[i] when
     out has n rows (out with 0 rows records nothing). ext: (1, 3) constant or (n, 3) per
@@ -312,44 +347,77 @@ def applied(ext, i):
 def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard, watch):
     """integrate() for the methods that solve nothing: explicit and semi-implicit Euler, RK4.
 
-    The state is carried as a tuple of six numbers (kept in registers; RK4's stages and the
-    checks read it), and the Euler methods step it in z, in place (euler_step_at: the seed's
-    lines, which compare/mutation edits). The contact points' turn (cos, sin) is computed once
-    per state, for the chatter check after a step and the forces of the next. The loop ends
-    by its condition, not by a `break` or `return` inside it (see forces.py: those keep
-    numba's reference counts of the arrays in the loop, two atomic operations each a step)."""
-    semi = method == SEMI_IMPLICIT_EULER
+    The steps go in blocks of BLOCK_STEPS. Where the chatter watch has nothing to do (no contact
+    watched, or the body above chatter.clear_height with every point's row cleared, chatter.idle),
+    a block first runs without the checks after each step, keeping the bounds of its states
+    (widen). It stands if every step would have passed both checks: its bounds are healthy
+    (bounds_healthy), so is its last state (for theta: a non-finite component stays non-finite,
+    each update adds to it), and no state came below clear_height, so no point touched and the
+    watch would have left every row as it was. Otherwise the block is taken again from its start
+    with both checks after every step, and stops at the first bad one: the run stops at the same
+    step, state and watch as if every step had been checked.
+
+    The state is carried as a tuple of six numbers (kept in registers; the steps and the
+    checks read it). The contact points' turn (cos, sin) is computed once per state, for the
+    chatter check after a step and the forces of the next. Both loops are written out here: a
+    function holding a loop, inlined, would count references to the arrays it is given (see
+    forces.py), and they end by their condition, not by a `break` or `return` inside them."""
     record = out.shape[0] == n
     watching = watch.shape[0] == points.shape[0] and model.contact
+    clear = clear_height(points)     # m: no point touches at a COM height at or above this
+    semi = method == SEMI_IMPLICIT_EULER
+    per_step = ext.shape[0] > 1
+    fx = fy = tau = 0.0
+    if ext.shape[0] == 1:              # constant: the applied load is read once
+        fx, fy, tau = applied(ext, 0)
     state = as_state(z)
     cs, sn = rotation(model, state[2])
-    evals = 0
     stopped = -1
-    per_step = ext.shape[0] > 1        # else the applied load is read once
-    fx = fy = tau = 0.0
     i = 0
     while i < n and stopped < 0:
-        if per_step or i == 0:
-            fx, fy, tau = applied(ext, i)
-        if method == RK4:
-            state = rk4_state(model, points, state, cs, sn, h, fx, fy, tau)
-            evals += 4
-        else:
-            # the Euler methods step the array z in place, in the seed's own words
-            store(z, state)
-            euler_step_at(model, points, z, cs, sn, h, fx, fy, tau, semi)
-            state = as_state(z)
-            evals += 1
-        cs, sn = rotation(model, state[2])
-        if record:
-            store(out[i], state)
-        if not is_healthy(state, guard):
-            stopped = i + 1
-        elif watching and chattering_point_at(model, points, state, cs, sn, watch) >= 0:
-            stopped = i + 1
-        i += 1
+        end = min(i + BLOCK_STEPS, n)
+        start, start_cs, start_sn = state, cs, sn
+        passed = False
+        if not watching or (idle(watch) and state[1] >= clear):
+            # unchecked, its states' bounds kept
+            bounds = NO_BOUNDS
+            j = i
+            while j < end:
+                if per_step:
+                    fx, fy, tau = applied(ext, j)
+                if method == RK4:
+                    state = rk4_state(model, points, state, cs, sn, h, fx, fy, tau)
+                else:
+                    state = euler_state(model, points, state, cs, sn, h, fx, fy, tau, semi)
+                cs, sn = rotation(model, state[2])
+                if record:
+                    store(out[j], state)
+                bounds = widen(bounds, state)
+                j += 1
+            passed = (bounds_healthy(bounds, guard) and is_healthy(state, guard)
+                      and (not watching or bounds[1] >= clear))
+        if not passed:
+            # from the block's start again, each step checked
+            state, cs, sn = start, start_cs, start_sn
+            j = i
+            while j < end and stopped < 0:
+                if per_step:
+                    fx, fy, tau = applied(ext, j)
+                if method == RK4:
+                    state = rk4_state(model, points, state, cs, sn, h, fx, fy, tau)
+                else:
+                    state = euler_state(model, points, state, cs, sn, h, fx, fy, tau, semi)
+                cs, sn = rotation(model, state[2])
+                if record:
+                    store(out[j], state)
+                j += 1
+                if not is_healthy(state, guard):
+                    stopped = j
+                elif watching and chattering_point_at(model, points, state, cs, sn, watch) >= 0:
+                    stopped = j
+        i = end
     store(z, state)
-    counters[FORCE_EVALS] += evals
+    counters[FORCE_EVALS] += (n if stopped < 0 else stopped) * (4 if method == RK4 else 1)
     return stopped
 
 
