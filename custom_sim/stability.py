@@ -233,9 +233,10 @@ def held_impact_limit(scene: Scene, bound: float, rate_per_newton: float) -> flo
     imp = impact(scene)
     dt_profile = PROFILE_STEP / imp["w_n"]
     loads = -np.sort(-imp["profile"])                # descending: time above F = count * dt
-    if not rate_per_newton * loads[0] > 0.0 or not math.isfinite(bound / (rate_per_newton * loads[0])):
+    with np.errstate(over="ignore"):                 # a vanishing rate: h_peak is inf, said below
+        h_peak = bound / (rate_per_newton * loads[0]) if rate_per_newton * loads[0] > 0.0 else math.inf
+    if not math.isfinite(h_peak):
         return math.inf                              # no load makes this rate stiff
-    h_peak = bound / (rate_per_newton * loads[0])
     ratio = 1.0025
     with np.errstate(over="ignore"):                 # a huge h_peak: its ladder reaches inf, harmlessly
         for h in h_peak * ratio ** np.arange(2800):  # up to 1e3 h_peak, 0.25 % apart

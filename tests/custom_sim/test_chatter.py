@@ -141,3 +141,16 @@ def test_rest_period2_is_sharp_at_its_limit():
     with pytest.raises(SimulationChattered):
         simulate(with_step("rest_period2", 3.12e-3))
     assert math.isclose(stable_step(load("rest_period2")), 2.97e-3, rel_tol=0.01)
+
+
+def test_a_vanishing_friction_rate_puts_no_limit_and_warns_nothing():
+    """held_impact_limit with a rate per newton so small that bound / (rate Fn) overflows: no
+    load makes the rate stiff, so no step is limited (inf), and no overflow warning reaches a user
+    (the random drops of test_properties met one)."""
+    import warnings
+
+    from custom_sim.stability import held_impact_limit
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert held_impact_limit(load("box_drop"), 2.0, 1e-320) == math.inf
