@@ -1,6 +1,7 @@
 """One cache of the work that depends only on the scene: MuJoCo's runs, custom_sim's runs and the
-converged reference, kept on disk (joblib.Memory) and keyed by the function, its arguments (the
-scene, its law) and the version of the code (a digest of every source file of the four packages
+converged reference, their CSV files and energy balances, the theory's stable step, kept on disk
+(joblib.Memory) and keyed by the function, its arguments (the scene, its law; a checks.Case
+stands for its scene) and the version of the code (a digest of every source file of the four packages
 and the numeric libraries' versions). A user's simulator is never cached: only what the scene
 alone decides, so a rerun after editing one's own simulator recomputes only that.
 
