@@ -361,7 +361,9 @@ def integrate_explicit(model, points, z, h, n, method, ext, out, counters, guard
     checks read it). The contact points' turn (cos, sin) is computed once per state, for the
     chatter check after a step and the forces of the next. Both loops are written out here: a
     function holding a loop, inlined, would count references to the arrays it is given (see
-    forces.py), and they end by their condition, not by a `break` or `return` inside them."""
+    forces.py), and they end by their condition, not by a `break` or `return` inside them. Even
+    one step of them as an inlined function of its own took elastic_bounce's step from 4.3 to
+    15 ns (`python -m compare bench elastic_bounce --against REV`)."""
     record = out.shape[0] == n
     watching = watch.shape[0] == points.shape[0] and model.contact
     clear = clear_height(points)     # m: no point touches at a COM height at or above this
