@@ -137,7 +137,7 @@ def _run(result: Result, case: Case, simulator) -> None:
         *([identical_row(case, result.under_test)] if user else []),
         *step_rows(result, case, tested),
         *dynamics_rows(scene, tested, result.under_test if user else None),
-        contact_row(case, simulator, result.under_test.integrator if user else None),
+        contact_row(case, simulator, result.under_test if user else None),
     ]
     rows, result.reference = reference_rows(case, tested, result.runs, own_model=not user)
     result.checks += rows
@@ -331,20 +331,24 @@ def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> CheckRow:
                "is shown beside MuJoCo's RK4 under the same contact law at the same step")
 
 
-def contact_row(case: Case, simulator, integrator: str | None = None) -> CheckRow:
+def contact_row(case: Case, simulator, under_test: Trajectory | None = None) -> CheckRow:
     """Check contact: the simulator under test on the scene with friction off (and the linear
     law MuJoCo has), against MuJoCo's own contact. A user's simulator is run again on that
-    variant, which the harness made up: where it cannot run it (precomputed trajectories) or
+    variant, which the harness made up, unless the scene is that variant already (its run
+    under_test is then the variant's); where it cannot run it (precomputed trajectories) or
     refuses it (raises, fails), the check is not judged, with the user's message; the rest stand."""
     from .contact_check import check_contact, contact_scene, not_judged
 
     scene = case.scene
     if simulator is None:
         return check_contact(scene, case=case)
-
+    integrator = under_test.integrator
     if not simulator.reruns:
         return not_judged(integrator, "needs a run of the scene with friction off, which precomputed trajectories cannot "
                           "give (bring a step function)")
+    variant = contact_scene(scene)
+    if variant == scene:
+        return check_contact(scene, under_test.states(), integrator, case=case)
     if scene.contact.damping_law not in LINEAR_KIN:
         return not_judged(integrator, f"MuJoCo's own contact is a spring-damper that damps both ways and never pulls "
                           f"(the linear law), and this check runs your code on the scene with that law; the law "
@@ -352,7 +356,6 @@ def contact_row(case: Case, simulator, integrator: str | None = None) -> CheckRo
                           f"for it need not follow the variant: the dynamics check runs your law itself in MuJoCo")
     from ..usersim import UserCodeError, UserFault, run_user
     from ..usersim.guard import EndedProcess
-    variant = contact_scene(scene)
     try:
         states = run_user(simulator, variant).states()
     except EndedProcess:

@@ -112,7 +112,8 @@ def cold(args) -> int:
         if args.json:
             for label, r in labelled:
                 print(json.dumps({"tree": label, **{k: dataclasses.asdict(getattr(r, k)) for k in
-                                                   ("compile", "run_warm", "first_run", "second_run", "user_run", "after_edit")}}))
+                                                   ("compile", "run_warm", "first_run", "second_run", "user_run", "after_edit",
+                                                    "user_code")}}))
         else:
             print("`" + " ".join(["python -m compare run", *names]) + "` on an empty numba cache:")
             print(cold_start.table(labelled))

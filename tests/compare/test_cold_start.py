@@ -67,13 +67,13 @@ def test_the_cache_stamp_follows_numba_cache_dir(tmp_path):
 
 def test_cold_start_table_shows_every_stage_for_each_tree():
     t = cold_start.Timed(1.5, 1.25, 0)
-    r = cold_start.ColdStart("x", t, t, t, t, t, t)
+    r = cold_start.ColdStart("x", t, t, t, t, t, t, t)
     text = cold_start.table([("today", r), ("before", r)])
     assert "today" in text and "before" in text
     for stage in ("compile (empty cache)", "run, cache warm", "first run (empty cache)", "second run",
-                  "run --sim (example copy)", "run --sim after an edit"):
+                  "run --sim (example copy)", "run --sim after an edit", "of which the copy's own code"):
         assert stage in text
-    assert text.count("1.5") == 12 and text.count("1.2") == 12
+    assert text.count("1.5") == 14 and text.count("1.2") == 14
 
 
 def test_cold_start_rounds_keep_each_stages_fastest_round(monkeypatch):
@@ -88,9 +88,27 @@ def test_cold_start_rounds_keep_each_stages_fastest_round(monkeypatch):
         return (lambda w: cold_start.Timed(w, w + 0.5, 0))(next(walls))
 
     monkeypatch.setattr(cold_start, "timed", timed)
+    own = iter([cold_start.Timed(1.0, 1.5, 0), cold_start.Timed(0.5, 1.0, 0)])
+    monkeypatch.setattr(cold_start, "user_code", lambda sim, scenes: next(own))
     (r,) = cold_start.measure([ROOT], ["box_slide"], rounds=2)
+    assert r.user_code == cold_start.Timed(0.5, 1.0, 0)
     assert [r.compile.wall, r.run_warm.wall, r.first_run.wall, r.second_run.wall, r.user_run.wall,
             r.after_edit.wall] == [5.0, 2.0, 6.0, 2.0, 4.0, 4.0]
     assert r.compile.cpu == 5.5 and r.run_warm.cpu == 2.5
     sims = [c[c.index("--sim") + 1] for c in commands if "--sim" in c]
     assert len(sims) == 4 and all(s.endswith("my_sim.py:step") for s in sims), "the last two stages run a copy"
+
+
+def test_the_users_code_alone_is_timed_inside_its_process(tmp_path):
+    """The probe runs the copy's step on the scene and, where it differs, the friction-off
+    variant: elastic_bounce is its own variant (one run), box_slide is not (two)."""
+    sim = tmp_path / "my_sim.py"
+    sim.write_text((ROOT / "examples" / "seed_sim.py").read_text() + "\nCALLS = []\n"
+                   "_step = step\n"
+                   "def step(state, scene, dt):\n"
+                   "    if not CALLS: open(__file__ + '.runs', 'a').write('run\\n')\n"
+                   "    CALLS.append(1)\n"
+                   "    return _step(state, scene, dt)\n")
+    timed = cold_start.user_code(sim, ["elastic_bounce", "box_slide"])
+    assert 0 < timed.cpu and 0 < timed.wall
+    assert (tmp_path / "my_sim.py.runs").read_text().count("run") == 3

@@ -13,6 +13,10 @@ computed earlier on the machine is reused:
     user's run   `python -m compare run SCENES --sim COPY:step`, COPY a copy of examples/seed_sim.py
     after edit   the same again after an edit of COPY: what a user waits between two edits
                  (nothing of a user's simulator is cached, so any edit costs the same)
+    user's code  COPY's step alone, through the runs `run --sim` makes of it (the scene, and its
+                 variant with friction off where that differs): the part of `after edit` that
+                 is the user's code, measured in today's checkout for every tree. Over N cores,
+                 `after edit` cannot take less wall time than its CPU time / N.
 
 Wall time is what a user waits; CPU time (user + system, all the processes of the command)
 is what the machine spent, and moves less with other load. The load average is printed with
@@ -47,6 +51,23 @@ states = np.ascontiguousarray(traj.states())
 first_unhealthy(states, blowup_guard(scene, cs.mass_properties(scene.body), states[0], applied_input=False))
 """
 
+# The user's code alone: the runs of their step that `run --sim` cannot do without, through the
+# harness's own loop (compare/usersim), timed inside the process (imports left out).
+USER_CODE_PROBE = """
+import sys, time
+from compare.checks.contact_check import contact_scene
+from compare.scenarios import load_all
+from compare.usersim import load_simulator, run_user
+sim = load_simulator(sys.argv[1])
+scenes = load_all(sys.argv[2:])
+wall, cpu = time.perf_counter(), time.process_time()
+for scene in scenes:
+    variant = contact_scene(scene)
+    for run in (scene, variant) if variant != scene else (scene,):
+        run_user(sim, run)
+print(time.perf_counter() - wall, time.process_time() - cpu)
+"""
+
 
 @dataclass(frozen=True)
 class Timed:
@@ -73,9 +94,20 @@ def timed(command: list[str], cwd: Path, cache: str) -> Timed:
     return Timed(wall, cpu, proc.returncode)
 
 
+def user_code(sim: Path, scenes: list[str]) -> Timed:
+    """The wall and CPU time (s) of USER_CODE_PROBE: the step function in `sim` run as `run
+    --sim` runs it on `scenes` (default: the built-ins), in today's checkout."""
+    proc = subprocess.run([sys.executable, "-c", USER_CODE_PROBE, f"{sim}:step", *scenes], cwd=ROOT,
+                          env={**os.environ, "PYTHONPATH": str(ROOT)}, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise RuntimeError(f"timing the user's code alone failed: {proc.stderr.strip()[-500:]}")
+    wall, cpu = map(float, proc.stdout.split()[-2:])
+    return Timed(wall, cpu, 0)
+
+
 @dataclass(frozen=True)
 class ColdStart:
-    """The four figures of the module docstring for one checkout."""
+    """The figures of the module docstring for one checkout."""
 
     tree: str
     compile: Timed
@@ -84,6 +116,7 @@ class ColdStart:
     second_run: Timed
     user_run: Timed
     after_edit: Timed
+    user_code: Timed
 
 
 def measure(trees: list[Path], scenes: list[str], jobs: int | None = None, rounds: int = 1) -> list[ColdStart]:
@@ -114,6 +147,8 @@ def measure(trees: list[Path], scenes: list[str], jobs: int | None = None, round
                     if step >= 4:
                         extra = ["--sim", f"{sims[i]}:step"]
                     stages[i].append(timed([*run, *extra, "--out", folder()], tree, cache))
+                    if step == 5:
+                        stages[i].append(user_code(sims[i], scenes))
         for i, st in enumerate(stages):
             best[i] = st if not best[i] else [min(a, b, key=lambda t: t.wall) for a, b in zip(best[i], st)]
     return [ColdStart(str(tree), *st) for tree, st in zip(trees, best)]
@@ -145,5 +180,6 @@ def table(results: list[tuple[str, ColdStart]]) -> str:
     rows = [[words, *(f"{t:.1f}" for _, r in results for t in (getattr(r, key).wall, getattr(r, key).cpu))]
             for key, words in (("compile", "compile (empty cache)"), ("run_warm", "run, cache warm"),
                                ("first_run", "first run (empty cache)"), ("second_run", "second run"),
-                               ("user_run", "run --sim (example copy)"), ("after_edit", "run --sim after an edit"))]
+                               ("user_run", "run --sim (example copy)"), ("after_edit", "run --sim after an edit"),
+                               ("user_code", "of which the copy's own code"))]
     return text(headers, rows, align=["left", *["right"] * (len(headers) - 1)])

@@ -188,3 +188,26 @@ def test_every_judged_identical_tolerance_is_within_a_tenth_of_the_motion(name):
     row = check_identical(scene, states, scene.integrator, scene.dt, None)
     assert row.passed is True, row.reason
     assert rule_breaches(row, states, scene.dt) == []
+
+
+@pytest.mark.parametrize("name, runs", [("elastic_bounce", 0), ("box_drop", 1)])
+def test_a_users_code_runs_again_only_for_a_variant_that_differs_from_the_scene(monkeypatch, name, runs):
+    """elastic_bounce is frictionless under the linear law: it is its own contact variant, and
+    the check judges the scene's run, with the same row a second run of the variant gives."""
+    from pathlib import Path
+
+    import compare.usersim as usersim
+    from compare.checks.case import Case
+    from compare.checks.scenario import contact_row
+
+    scene = load(name)
+    assert (contact_scene(scene) == scene) == (runs == 0)
+    seed = usersim.load_simulator(str(Path(__file__).resolve().parents[3] / "examples" / "seed_sim.py") + ":step")
+    run, case = usersim.run_user(seed, scene), Case(scene)
+    again = check_contact(scene, usersim.run_user(seed, contact_scene(scene)).states(), run.integrator, case=case)
+    calls = []
+    real = usersim.run_user
+    monkeypatch.setattr(usersim, "run_user", lambda sim, s: calls.append(s.name) or real(sim, s))
+    row = contact_row(case, seed, run)
+    assert len(calls) == runs
+    assert row.passed is True and row == again
