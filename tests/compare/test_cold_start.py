@@ -118,3 +118,23 @@ def test_the_users_code_alone_is_timed_inside_its_process(tmp_path):
     timed = cold_start.user_code(sim, [str(s) for s in scenes])
     assert 0 < timed.cpu and 0 < timed.wall
     assert (tmp_path / "my_sim.py.runs").read_text().count("run") == 3
+
+
+def test_the_compile_stage_takes_the_probe_that_runs_on_the_revision_and_fails_without_one(monkeypatch):
+    """A probe that exits 1 (an older revision lacks a module it imports) must not count as a
+    compile: the next stage would then compile, and both figures would be wrong."""
+    said = []
+
+    def timed(command, cwd, cache, ok=(0, 1)):
+        said.append((command[-1], ok))
+        if command[-1] == cold_start.COMPILE_PROBE or fail_both:
+            raise RuntimeError("exited 1: ImportError")
+        return cold_start.Timed(3.0, 3.5, 0)
+
+    monkeypatch.setattr(cold_start, "timed", timed)
+    fail_both = False
+    assert cold_start.compile_time(ROOT, "cache") == cold_start.Timed(3.0, 3.5, 0)
+    assert said == [(cold_start.COMPILE_PROBE, (0,)), (cold_start.WARM_UP_PROBE, (0,))]
+    fail_both = True
+    with pytest.raises(RuntimeError, match="neither compile probe runs"):
+        cold_start.compile_time(ROOT, "cache")

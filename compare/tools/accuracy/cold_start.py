@@ -6,7 +6,8 @@ computed earlier on the machine is reused:
 
     compile      the simulator compiled into an empty cache in one process (10 steps of
                  box_drop with each integrator, and the blow-up check a MuJoCo trajectory goes
-                 through: everything of custom_sim that `run` compiles)
+                 through: everything of custom_sim that `run` compiles; on an older revision
+                 its own warm-up)
     run, warm    `python -m compare run SCENES` once that compile is cached (no scene-only work yet)
     first run    `python -m compare run SCENES` on other empty caches: what a new user waits
     second run   the same command again, both caches now full
@@ -50,6 +51,9 @@ for name in cs.INTEGRATORS:
 states = np.ascontiguousarray(traj.states())
 first_unhealthy(states, blowup_guard(scene, cs.mass_properties(scene.body), states[0], applied_input=False))
 """
+# On a revision whose modules the probe above does not find: its own warm-up, which compiles
+# what its run executes.
+WARM_UP_PROBE = "from custom_sim.compile_cache import warm_up; warm_up()"
 
 # The user's code alone: the runs of their step that `run --sim` cannot do without, through the
 # harness's own loop (compare/usersim), timed inside the process (imports left out).
@@ -78,9 +82,10 @@ class Timed:
     status: int
 
 
-def timed(command: list[str], cwd: Path, cache: str) -> Timed:
+def timed(command: list[str], cwd: Path, cache: str, ok: tuple = (0, 1)) -> Timed:
     """Run command in cwd with NUMBA_CACHE_DIR = cache and the cache of scene-only work beside it
-    (compare/store.py: a first run on a fresh machine has neither); its wall and CPU time."""
+    (compare/store.py: a first run on a fresh machine has neither); its wall and CPU time. An
+    exit status outside `ok` (a run's 0 or 1 by default) raises RuntimeError."""
     env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(cwd),
            "CONTACT_HARNESS_CACHE": os.path.join(cache, "results")}
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -89,9 +94,22 @@ def timed(command: list[str], cwd: Path, cache: str) -> Timed:
     wall = time.perf_counter() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    if proc.returncode not in (0, 1):
+    if proc.returncode not in ok:
         raise RuntimeError(f"{' '.join(command)} (in {cwd}) exited {proc.returncode}: {proc.stderr.strip()[-500:]}")
     return Timed(wall, cpu, proc.returncode)
+
+
+def compile_time(tree: Path, cache: str) -> Timed:
+    """The compile into the empty `cache`: COMPILE_PROBE, or WARM_UP_PROBE where that cannot run
+    (an older revision). A probe that fails would leave the compile to the next stage's run and
+    show a failure's time as the compile's, so no figure is better: RuntimeError."""
+    errors = []
+    for probe in (COMPILE_PROBE, WARM_UP_PROBE):
+        try:
+            return timed([sys.executable, "-c", probe], tree, cache, ok=(0,))
+        except RuntimeError as err:
+            errors.append(str(err).splitlines()[-1])
+    raise RuntimeError(f"neither compile probe runs in {tree}: {'; '.join(errors)}")
 
 
 def user_code(sim: Path, scenes: list[str]) -> Timed:
@@ -137,7 +155,7 @@ def measure(trees: list[Path], scenes: list[str], jobs: int | None = None, round
             for step in range(6):
                 for i, tree in enumerate(trees):
                     if step == 0:
-                        stages[i].append(timed([sys.executable, "-c", COMPILE_PROBE], tree, caches[i][0]))
+                        stages[i].append(compile_time(tree, caches[i][0]))
                         continue
                     cache, extra = caches[i][0] if step == 1 else caches[i][1], []
                     if step == 4:
