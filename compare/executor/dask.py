@@ -46,9 +46,11 @@ def _local_client(workers: int):
     # a task on a worker that dies is not rescheduled behind the executor's back: its rule
     # runs it again (split into single runs) and counts the attempt
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        # no dashboard; the scheduler's HTTP server (metrics, health) on a free port, not on
+        # 8787, which a second cluster (another study, a dashboard of the user's) may hold
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                dashboard_address=None, worker_dashboard_address=None,
-                               silence_logs=logging.ERROR)
+                               scheduler_kwargs={"dashboard_address": ":0"}, silence_logs=logging.ERROR)
     client = Client(cluster)
     if not _LOCAL:
         atexit.register(_close_local)
