@@ -267,6 +267,8 @@ def invariant_cases():
                 if inv == "rest" and name not in REST_SCENES:
                     continue
                 marks = KNOWN_FAILURES.get((name, method, inv), ()) + ((pytest.mark.slow,) if name in SLOW else ())
+                # a run's invariants on one worker, one after another: run() computes it once
+                marks += (pytest.mark.xdist_group(f"stress-{name}-{method}"),)
                 yield pytest.param(name, method, inv, id=f"{name}-{method}-{inv}", marks=marks)
 
 
