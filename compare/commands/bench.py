@@ -107,7 +107,11 @@ def cold(args) -> int:
             except ValueError as err:
                 raise BadInput(str(err)) from None
         load = cold_start.load_average()
-        results = cold_start.measure([tree for _, tree in trees], names, rounds=args.rounds or 1)
+        try:
+            results = cold_start.measure([tree for _, tree in trees], names, rounds=args.rounds or 1)
+        except RuntimeError as err:   # a command that failed in a checkout: said, not a traceback
+            print(f"error: bench --cold: {err}", file=sys.stderr)
+            return 1
         labelled = [(label, r) for (label, _), r in zip(trees, results)]
         if args.json:
             for label, r in labelled:

@@ -138,3 +138,15 @@ def test_the_compile_stage_takes_the_probe_that_runs_on_the_revision_and_fails_w
     fail_both = True
     with pytest.raises(RuntimeError, match="neither compile probe runs"):
         cold_start.compile_time(ROOT, "cache")
+
+
+def test_bench_cold_says_which_command_failed_without_a_traceback(monkeypatch, capsys):
+    from compare.cli import main
+
+    def measure(trees, scenes, rounds=1):
+        raise RuntimeError("neither compile probe runs in /old: exited 1: ImportError")
+
+    monkeypatch.setattr(cold_start, "measure", measure)
+    assert main(["bench", "--cold"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("error: bench --cold: neither compile probe runs in /old") and "Traceback" not in err
