@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import io
 import os
-import re
 import subprocess
 import sys
 from pathlib import Path
@@ -12,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from compare.tools.accuracy import cold_start
+from short_scene import short_scene
 from custom_sim import compile_cache
 from custom_sim.compile_cache import COMPILING_MESSAGE, is_cached, needs_compiling, warm_up
 from custom_sim.integrators import first_unhealthy, integrate_explicit, integrate_implicit
@@ -110,12 +110,9 @@ def test_the_users_code_alone_is_timed_inside_its_process(tmp_path):
                    "    if not CALLS: open(__file__ + '.runs', 'a').write('run\\n')\n"
                    "    CALLS.append(1)\n"
                    "    return _step(state, scene, dt)\n")
-    scenes = []
-    for name in ("elastic_bounce", "box_slide"):   # cut to 0.1 s: the runs, not their length, are counted
-        scenes.append(tmp_path / f"{name}.toml")
-        text = (ROOT / "scenarios" / f"{name}.toml").read_text()
-        scenes[-1].write_text(re.sub(r"(?m)^duration = .*$", "duration = 0.1", text))
-    timed = cold_start.user_code(sim, [str(s) for s in scenes])
+    # cut to 0.1 s: the runs, not their length, are counted
+    scenes = [str(short_scene(tmp_path, name, 0.1)) for name in ("elastic_bounce", "box_slide")]
+    timed = cold_start.user_code(sim, scenes)
     assert 0 < timed.cpu and 0 < timed.wall
     assert (tmp_path / "my_sim.py.runs").read_text().count("run") == 3
 
