@@ -6,7 +6,7 @@ import contextlib
 import numpy as np
 
 from ..usersim.base import STATE, _state_text
-from ..usersim.errors import UserCodeError
+from ..usersim.errors import UserCodeError, one_line
 from ..usersim.functions import StepFunction, as_state
 from ..usersim.guard import user_code
 from ..usersim.scene_dict import scene_dict
@@ -54,9 +54,7 @@ class StepCalls:
             try:
                 out = self.simulator.function(np.array(z0, dtype=float), self.scene_d, float(h))
             except Exception as exc:  # noqa: BLE001 - any fault of the user's step is bad input here
-                first = (str(exc).strip().splitlines() or [""])[0]
-                text = f"{type(exc).__name__}: {first}" if first else type(exc).__name__
-                raise UserCodeError(f"{where} raised {text} (expected a state {STATE})") from None
+                raise UserCodeError(f"{where} raised {one_line(exc)} (expected a state {STATE})") from None
         z1, _ = as_state(out, where)
         if not np.all(np.isfinite(z1)):
             raise UserCodeError(f"{where} returned a non-finite state {_state_text(z1)} (expected 6 finite numbers "

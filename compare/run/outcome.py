@@ -1,9 +1,11 @@
-"""A scenario's process (run_one) and what it sends back (Outcome), with one_line, the one-line
-cause an error row shows."""
+"""A scenario's process (run_one) and what it sends back (Outcome); an error row's cause is
+one line (one_line)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+
+from ..usersim.errors import one_line
 
 
 @dataclass
@@ -14,12 +16,6 @@ class Outcome:
     failure: tuple | None = None       # (status, why): no verdict (error, unstable, timeout)
     bad_input: tuple | None = None     # (message, details): the user's code broke the protocol
     details: str = ""                  # with a failure: the user's own traceback, where their code raised
-
-
-def one_line(exc: BaseException) -> str:
-    """`Type: first line of the message`: the cause a report row shows."""
-    text = str(exc).strip().splitlines()
-    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
 
 
 def run_one(scene, out: str, simulator=None):

@@ -60,10 +60,14 @@ def user_traceback(exc: BaseException) -> str:
     return "".join(lines).rstrip()
 
 
+def one_line(exc: BaseException) -> str:
+    """`Type: first line of the message` (`Type` alone without a message)."""
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
+
+
 def raised(where: str, exc: BaseException, expected: str) -> UserCodeError:
     """`where` raised exc: one line naming it and the exception, the shortened traceback."""
-    first = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-    text = f"{type(exc).__name__}: {first}" if first else type(exc).__name__
-    return UserCodeError(f"{where} raised {text} (expected {expected})", user_traceback(exc))
+    return UserCodeError(f"{where} raised {one_line(exc)} (expected {expected})", user_traceback(exc))
 
 
