@@ -174,9 +174,12 @@ def _make_ticks(ax) -> None:
 
 def prebuild() -> None:
     """Build every frame with its tick objects, for frame() to hand out: call it before forking
-    the processes that draw figures, which then inherit them."""
+    the processes that draw figures, which then inherit them. A frame still waiting (the parent
+    of a run draws none) is kept."""
     with harness_rc():
         for name, build in FRAMES.items():
+            if name in _ready:
+                continue
             fig, axes = build()
             for ax in axes:
                 _make_ticks(ax)

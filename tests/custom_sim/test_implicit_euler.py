@@ -115,6 +115,7 @@ def test_newton_converges_on_every_builtin_scene():
         assert tr.meta["newton_max_iterations"] <= 10, (scene.name, tr.meta)
 
 
+@pytest.mark.slow   # compiles four fresh functions (4 s): a property of speed, not of the motion
 def test_the_implicit_step_allocates_nothing():
     """The Newton step, its Jacobian and the step on a jump build no temporary array: their compiled code calls no
     allocator (an array expression such as `k * dd` would: 14 allocation sites in an earlier

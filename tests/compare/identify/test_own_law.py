@@ -76,7 +76,7 @@ def run(tmp_path, capsys, *argv):
 
 EXAMPLES = [pytest.param("examples/hunt_crossley_sim.py", "box_drop", 0.6, "normal", "hunt_crossley",
                          "examples/laws/hunt_crossley.toml", marks=pytest.mark.slow),
-            ("examples/stiction_ramp_sim.py", "box_slide", 1.0, "friction", "ramp",
+            ("examples/stiction_ramp_sim.py", "box_slide", 0.6, "friction", "ramp",
              "examples/laws/stiction_ramp.toml")]
 
 

@@ -90,6 +90,22 @@ def test_a_prebuilt_frame_draws_the_same_figure_as_a_new_one(tmp_path):
         assert new.read_bytes() == (tmp_path / "prebuilt" / new.name).read_bytes(), new.name
 
 
+def test_a_second_prebuild_builds_only_the_frames_handed_out():
+    """A process that runs twice (a test, a notebook) prebuilds before each run; the frames
+    its forked processes inherited and it never drew into are kept, not built again."""
+    from compare.report import frames
+
+    frames._ready.clear()
+    frames.prebuild()
+    waiting = dict(frames._ready)
+    taken = frames.frame("energy")
+    frames.prebuild()
+    assert frames._ready.keys() == frames.FRAMES.keys()
+    assert all(frames._ready[n] is waiting[n] for n in frames.FRAMES if n != "energy")
+    assert frames._ready["energy"] is not taken
+    frames._ready.clear()
+
+
 def test_every_figure_has_its_title_axis_labels_and_legend(tmp_path, monkeypatch):
     from compare.report import frames, plots
     from compare.scenarios import load
