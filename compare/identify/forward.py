@@ -6,8 +6,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .fit import PARAMETER_FLOOR, polish, worst
-from .integrators import predicted_rate
-from .model import Law
+from .integrators import evaluated_at, predicted_rate
+from .model import Law, kinematics
 from .roundoff import inertias, rate_bound
 
 
@@ -82,12 +82,14 @@ def fit(law: Law, slots, integrator: str, Z0, Z1, H, rows, channels, rounding=No
     # a channel where nothing acts has a zero bound (and a zero residual): weigh it as the others
     B = np.maximum(B, np.finfo(float).eps * np.max(B, initial=0.0) + np.finfo(float).tiny)
     rate = ((Z1r[:, 3:] - Z0r[:, 3:]) / Hr[:, None])[:, channels]
+    Ze = evaluated_at(integrator, Z0r, Z1r)
+    kin = None if Ze is None else kinematics(law.geometry, Ze)   # every trial that keeps the points
 
     def fun(x):
         trial = build(law, slots, x)
         M = inertias(trial)[channels]
         with np.errstate(all="ignore"):   # an inertia of 0 on the way: a huge residual, not a NaN
-            r = ((rate - predicted_rate(trial, integrator, Z0r, Z1r, Hr)[:, channels]) * M / B).ravel()
+            r = ((rate - predicted_rate(trial, integrator, Z0r, Z1r, Hr, kin)[:, channels]) * M / B).ravel()
         return np.where(np.isfinite(r), r, 1e150)
     lower = [-np.inf if slot in ("lx", "inertia") else PARAMETER_FLOOR for slot, _ in slots]
     return build(law, slots, polish(fun, values(law, slots), lower))

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .model import Law, accelerations
+from .model import Kinematics, Law, accelerations
 
 NAMES = ("explicit_euler", "semi_implicit_euler", "implicit_euler", "rk4")
 # In q1 = q0 + h v0 + beta h (v1 - v0): the share of the new velocity each takes, exact under a
@@ -42,12 +42,14 @@ def rk4_step(law: Law, Z0: np.ndarray, H: np.ndarray) -> np.ndarray:
     return Z0 + H / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
 
 
-def predicted_rate(law: Law, integrator: str, Z0: np.ndarray, Z1: np.ndarray, H: np.ndarray) -> np.ndarray:
+def predicted_rate(law: Law, integrator: str, Z0: np.ndarray, Z1: np.ndarray, H: np.ndarray,
+                   kin: Kinematics | None = None) -> np.ndarray:
     """The velocity change over h (n, 3) the law gives under the integrator: a at the state the
-    Euler steps evaluate it, RK4's own combination of four."""
+    Euler steps evaluate it, RK4's own combination of four (kin: the kinematics of the state
+    an Euler step evaluates, when already computed)."""
     Ze = evaluated_at(integrator, Z0, Z1)
     if Ze is not None:
-        return accelerations(law, Ze)
+        return accelerations(law, Ze, kin)
     return (rk4_step(law, Z0, H)[:, 3:] - Z0[:, 3:]) / np.asarray(H, dtype=float)[:, None]
 
 

@@ -42,15 +42,37 @@ class Contacts:
     roll: np.ndarray
 
 
-def contacts(law: Law, Z: np.ndarray) -> Contacts:
-    """The contact quantities of every point at states Z (n, 6)."""
+@dataclass(frozen=True)
+class Kinematics:
+    """What contacts() takes from the states and the points alone, whatever the law: per state
+    and point, arms (m), depth (m), normal velocity and slip (m/s), touching mask; and the spin
+    (n, 1) rad/s. A fit that tries many laws on the same states computes it once."""
+
+    geometry: Geometry
+    rx: np.ndarray
+    ry: np.ndarray
+    d: np.ndarray
+    vn: np.ndarray
+    slip: np.ndarray
+    touching: np.ndarray
+    om: np.ndarray
+
+
+def kinematics(geometry: Geometry, Z: np.ndarray) -> Kinematics:
+    """The contact points' kinematics at states Z (n, 6)."""
     Z = np.atleast_2d(np.asarray(Z, dtype=float))
     y, theta, vx, vy, om = Z[:, 1:2], Z[:, 2], Z[:, 3:4], Z[:, 4:5], Z[:, 5:6]
-    rx, ry = law.geometry.arms(theta)
+    rx, ry = geometry.arms(theta)
     d = -(y + ry)
-    vn = vy + om * rx
-    slip = vx - om * ry
-    touching = d > 0.0
+    return Kinematics(geometry, rx, ry, d, vy + om * rx, vx - om * ry, d > 0.0, om)
+
+
+def contacts(law: Law, Z: np.ndarray, kin: Kinematics | None = None) -> Contacts:
+    """The contact quantities of every point at states Z (n, 6); kin: kinematics(law.geometry,
+    Z) when already computed (it is used only for that geometry)."""
+    if kin is None or kin.geometry is not law.geometry:
+        kin = kinematics(law.geometry, Z)
+    rx, ry, d, vn, slip, touching, om = kin.rx, kin.ry, kin.d, kin.vn, kin.slip, kin.touching, kin.om
     zero = np.zeros_like(d)
     fn = zero
     if law.normal is not None:
@@ -66,9 +88,9 @@ def contacts(law: Law, Z: np.ndarray) -> Contacts:
     return Contacts(rx, ry, d, vn, slip, touching, fn, ft, roll)
 
 
-def accelerations(law: Law, Z: np.ndarray) -> np.ndarray:
-    """(ax, ay, alpha) at states Z (n, 6): m/s^2, m/s^2, rad/s^2."""
-    c = contacts(law, Z)
+def accelerations(law: Law, Z: np.ndarray, kin: Kinematics | None = None) -> np.ndarray:
+    """(ax, ay, alpha) at states Z (n, 6): m/s^2, m/s^2, rad/s^2 (kin: as contacts())."""
+    c = contacts(law, Z, kin)
     fx = c.ft.sum(axis=1)
     fy = c.fn.sum(axis=1) - law.mass * law.g
     tau = (c.rx * c.fn - c.ry * c.ft + c.roll).sum(axis=1)

@@ -19,7 +19,7 @@ from compare.cli import main
 from compare.identify import identified_contact, identify_run, identify_step
 from compare.scenarios import builtin_names, load
 from compare.usersim import load_simulator
-from custom_sim import Stepper, mass_properties
+from custom_sim import Stepper, mass_properties, simulate
 
 # A part in 1e9: every parameter is recovered far closer (round-off is 1e-13 to 1e-15 of it);
 # this only keeps the comparison clear of the last digits. A physical mistake (a wrong mass, a
@@ -355,3 +355,24 @@ def test_buggy_whole_run_finds_the_friction_it_never_applies():
     out = identify_run(states, scene)
     assert out["friction"]["law"] == "none" and out["matches_scene"]["friction"] is False
     assert out["matches_scene"]["body"] is False and out["matches_scene"]["normal"]
+
+
+def test_kinematics_computed_once_give_the_same_forces_and_never_serve_other_points():
+    """A fit computes the points' kinematics once for all its trial laws: the forces from them
+    are those computed afresh, bit for bit; a trial law that moves the points (a fitted arm)
+    gets its own, not the stale ones."""
+    from compare.identify.from_step import scene_law
+    from compare.identify.model import accelerations, kinematics
+    from compare.usersim.scene_dict import scene_dict
+
+    scene = load("t_shape_drop")
+    states = simulate(dataclasses.replace(scene, duration=0.6)).states()
+    law = scene_law(scene, scene_dict(scene))
+    kin = kinematics(law.geometry, states)
+    assert kin.touching.any() and not kin.touching.all()
+    stiffer = law.with_(normal=(law.normal[0], (2.0 * law.normal[1][0], *law.normal[1][1:])))
+    for trial in (law, stiffer):
+        assert np.array_equal(accelerations(trial, states, kin), accelerations(trial, states))
+    moved = law.with_(geometry=law.geometry.with_points(law.geometry.points + [0.0, -0.01]))
+    assert np.array_equal(accelerations(moved, states, kin), accelerations(moved, states))
+    assert not np.array_equal(accelerations(moved, states), accelerations(law, states))
