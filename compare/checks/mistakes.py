@@ -34,7 +34,7 @@ from compare.oracle.reference import Equations
 
 from ..oracle.one_step import METHODS, one_step
 from .row import CheckRow
-from .step_check import COMPONENTS, check_step, phase, step_residuals
+from .step_check import COMPONENTS, check_step, first_failure, phase, step_residuals
 
 # Steps of a failing trajectory a variant is screened on before the whole trajectory is
 # stepped with it: the correct step's first failures (where a mistake shows) and a spread.
@@ -446,12 +446,7 @@ def _seed_lines(names):
 
 
 def _verdict(row: CheckRow, found, near=()) -> str:
-    d = row.details
-    if d.get("first_step") is None:
-        where = f"state {d['nonfinite_step']} is not finite (every step before it within round-off)"
-    else:
-        where = (f"first step over round-off: {d['first_step']} (t = {d['first_time']:.6g} s), "
-                 f"{d['phase']}, component {d['component']}")
+    where = first_failure(row)
     if not found:
         text = (f"{where}; no catalogued mistake (nor pair) explains it to round-off: largest "
                 f"residual {row.position_error_max:.3g} m, {row.angle_error_max:.3g} rad")

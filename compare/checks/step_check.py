@@ -262,3 +262,13 @@ def _unstepped(integrator: str | None, details: dict, reason: str, passed: bool 
     """A step row with nothing measured: every detail so far precedes the reason."""
     return CheckRow("step", ISOLATES, integrator, passed=passed, reason=reason, details=details,
                     reason_at=len(details))
+
+
+def first_failure(row: CheckRow) -> str:
+    """Where a step check's row first fails, in one clause: the first step over round-off (its
+    time, phase and component), or the first state that is not finite."""
+    d = row.details
+    if d.get("first_step") is None:
+        return f"state {d.get('nonfinite_step')} is not finite (every step before it within round-off)"
+    return (f"first step over round-off: {d['first_step']} (t = {d['first_time']:.6g} s), "
+            f"{d['phase']}, component {d['component']}")

@@ -27,22 +27,6 @@ class Law:
 
 
 @dataclass(frozen=True)
-class Contacts:
-    """Per state (rows) and point (columns): arms r (m), depth d (m), normal velocity v_n and
-    slip v (m/s), touching mask, normal and friction force (N), rolling torque (N m)."""
-
-    rx: np.ndarray
-    ry: np.ndarray
-    d: np.ndarray
-    vn: np.ndarray
-    slip: np.ndarray
-    touching: np.ndarray
-    fn: np.ndarray
-    ft: np.ndarray
-    roll: np.ndarray
-
-
-@dataclass(frozen=True)
 class Kinematics:
     """What contacts() takes from the states and the points alone, whatever the law: per state
     and point, arms (m), depth (m), normal velocity and slip (m/s), touching mask; and the spin
@@ -56,6 +40,16 @@ class Kinematics:
     slip: np.ndarray
     touching: np.ndarray
     om: np.ndarray
+
+
+@dataclass(frozen=True)
+class Contacts(Kinematics):
+    """The kinematics with a law's forces at each point: normal and friction force (N), rolling
+    torque (N m)."""
+
+    fn: np.ndarray
+    ft: np.ndarray
+    roll: np.ndarray
 
 
 def kinematics(geometry: Geometry, Z: np.ndarray) -> Kinematics:
@@ -72,7 +66,7 @@ def contacts(law: Law, Z: np.ndarray, kin: Kinematics | None = None) -> Contacts
     Z) when already computed (it is used only for that geometry)."""
     if kin is None or kin.geometry is not law.geometry:
         kin = kinematics(law.geometry, Z)
-    rx, ry, d, vn, slip, touching, om = kin.rx, kin.ry, kin.d, kin.vn, kin.slip, kin.touching, kin.om
+    d, vn, slip, touching, om = kin.d, kin.vn, kin.slip, kin.touching, kin.om
     zero = np.zeros_like(d)
     fn = zero
     if law.normal is not None:
@@ -85,7 +79,7 @@ def contacts(law: Law, Z: np.ndarray, kin: Kinematics | None = None) -> Contacts
     if law.rolling is not None:
         fam, p = law.rolling
         roll = np.where(touching, fam.force(fn, om, p), 0.0)
-    return Contacts(rx, ry, d, vn, slip, touching, fn, ft, roll)
+    return Contacts(**vars(kin), fn=fn, ft=ft, roll=roll)
 
 
 def accelerations(law: Law, Z: np.ndarray, kin: Kinematics | None = None) -> np.ndarray:

@@ -28,6 +28,7 @@ from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
 from ..checks import mistakes
 from ..checks.case import as_case
+from ..checks.step_check import first_failure
 from ..table import markdown, number
 from .errors import UserCodeError, UserFault
 from .law_diagnosis import law_findings, law_verdict
@@ -183,13 +184,7 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
 
 def _trajectory_where(row) -> str:
     """The step check's (a CheckRow's) first failing step and largest residual, in one clause."""
-    d = row.details
-    if d.get("first_step") is None:
-        where = f"state {d.get('nonfinite_step')} is not finite"
-    else:
-        where = (f"first step over round-off {d['first_step']} (t = {d['first_time']:.6g} s), "
-                 f"{d['phase']}, component {d['component']}")
-    return (f"{where}, largest residual {row.position_error_max:.3g} m, "
+    return (f"{first_failure(row)}, largest residual {row.position_error_max:.3g} m, "
             f"{row.angle_error_max:.3g} rad")
 
 
