@@ -44,6 +44,7 @@ COMMANDS = {   # python -m compare COMMAND, in the order --help lists them
 
 EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2
 EXIT_INTERRUPTED = 130   # Ctrl-C, as a shell reports a process stopped by SIGINT
+EXIT_BROKEN_PIPE = 141   # the reader of stdout went away (`| head`), as a shell reports SIGPIPE
 
 
 def output_folder(out: str) -> Path:
@@ -156,7 +157,12 @@ def main(argv: list[str] | None = None) -> int:
     from scene_types import BadInput, SceneError
 
     try:
-        return args._main(args)
+        status = args._main(args)
+        sys.stdout.flush()   # a reader gone shows here, not as a traceback at the interpreter's exit
+        return status
+    except BrokenPipeError:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())   # nothing more to say
+        return EXIT_BROKEN_PIPE
     except KeyboardInterrupt:
         print(f"interrupted: python -m compare {args._words} stopped (Ctrl-C)", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -134,6 +134,8 @@ def build_twin(scene: Scene, solref: str | None = None, *, integrator: str | Non
                           solref=list(params.solref), solimp=list(params.solimp),
                           solreffriction=list(params.solreffriction))
             paired.append(plan.name)
+    if not paired:   # no geom can collide: skipping the collision stage gives the same states, sooner
+        spec.option.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
     sensors = add_sensors(spec, GROUND, paired, sites if scene.has("contact") and not paired else [])
 
     qpos, qvel = qpos_qvel(props, _initial_state(scene))

@@ -23,6 +23,20 @@ def test_list_shows_every_builtin(capsys):
         assert name in out
 
 
+def test_output_to_a_reader_that_went_away_ends_quietly():
+    """`python -m compare list | head -1`: the pipe's reader is gone before the listing is
+    written. The command stops with the shell's status for it (128 + SIGPIPE) and no traceback."""
+    import os
+    read, write = os.pipe()
+    os.close(read)
+    try:
+        done = subprocess.run([sys.executable, "-m", "compare", "list"], cwd=ROOT, stdout=write,
+                              stderr=subprocess.PIPE, text=True, timeout=60)
+    finally:
+        os.close(write)
+    assert done.returncode == 141 and done.stderr == "", (done.returncode, done.stderr)
+
+
 def test_run_writes_the_contract_files(tmp_path):
     pytest.importorskip("mujoco_models")
     scene = short_scene(tmp_path)

@@ -10,6 +10,7 @@ import multiprocessing
 import mujoco
 import numpy as np
 import pytest
+from mujoco import rollout
 from numba import cfunc, types
 
 from compare.scenarios import load
@@ -194,6 +195,33 @@ def test_native_normal_without_friction_is_the_native_twin():
     a, b = simulate_dynamics(scene, native_normal=True), simulate_mujoco(scene, integrator="Euler")
     assert np.array_equal(a.states(), b.states())
     assert np.allclose(a.energy, b.energy, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("name, integrator", [("box_drop", "Euler"), ("t_shape_drop", "RK4")])
+def test_skipping_the_collision_stage_of_a_twin_without_pairs_changes_no_bit(name, integrator):
+    """A twin without contact pairs has no geom that can collide, and skips MuJoCo's collision
+    stage (mjDSBL_CONTACT): its states and sensors through a landing are those of the same
+    model with the stage run, to the bit. A twin with pairs keeps the stage."""
+    scene = short(load(name), 0.5)
+    twin = build_twin(scene, integrator=integrator, pairs="none")
+    skipped = twin.spec.compile()
+    assert skipped.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_CONTACT
+    full = twin.spec.compile()
+    full.opt.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+    params = law_parameters(scene, twin.props, contact_below_site(scene.body), native_normal=False,
+                            friction_at="corner")
+    runs = []
+    for model in (skipped, full):
+        data = mujoco.MjData(model)
+        mujoco.mj_resetDataKeyframe(model, data, 0)
+        start = np.empty(mujoco.mj_stateSize(model, mujoco.mjtState.mjSTATE_FULLPHYSICS))
+        mujoco.mj_getState(model, data, start, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+        with installed(model, data, params):
+            runs.append(rollout.rollout(model, data, start, nstep=scene.steps))
+    assert np.array_equal(runs[0][0], runs[1][0]) and np.array_equal(runs[0][1], runs[1][1])
+    assert np.ptp(runs[0][1]) > 0   # the sensors moved: the body fell and landed
+    native = build_twin(scene).spec.compile()
+    assert not native.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_CONTACT
 
 
 def test_unknown_switch_values_are_refused():
