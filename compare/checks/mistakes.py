@@ -34,7 +34,7 @@ from compare.oracle.reference import Equations
 
 from ..oracle.one_step import METHODS, one_step
 from .row import CheckRow
-from .step_check import COMPONENTS, check_step, first_failure, phase, step_residuals
+from .step_check import COMPONENTS, check_step, first_failure, largest_residual, phase, step_residuals
 
 # Steps of a failing trajectory a variant is screened on before the whole trajectory is
 # stepped with it: the correct step's first failures (where a mistake shows) and a spread.
@@ -448,8 +448,7 @@ def _seed_lines(names):
 def _verdict(row: CheckRow, found, near=()) -> str:
     where = first_failure(row)
     if not found:
-        text = (f"{where}; no catalogued mistake (nor pair) explains it to round-off: largest "
-                f"residual {row.position_error_max:.3g} m, {row.angle_error_max:.3g} rad")
+        text = f"{where}; no catalogued mistake (nor pair) explains it to round-off: {largest_residual(row)}"
         return text + (f"; {not_named_text(near)}" if near else "")
     if len(found) == 1:
         return f"{where}; explained by {_seed_lines(found)}"

@@ -445,6 +445,7 @@ def metrics_json(result: Result) -> dict:
         "checks": [c.to_json() for c in result.checks],
         # ours
         "simulator": result.simulator,
+        "integrator_under_test": tested.integrator,
         "status": result.status,
         "not_judged": [c.label for c in result.not_judged],
         "failed_checks": [c.label for c in result.failed],

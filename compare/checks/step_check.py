@@ -22,6 +22,7 @@ from ..oracle.one_step import (FORCE_ULPS, IMPLICIT_SOLVE_TOL, INPUT_ROUNDING_SA
 from .row import CheckRow
 
 COMPONENTS = ("x", "y", "theta", "vx", "vy", "omega")
+UNITS = ("m", "m", "rad", "m/s", "m/s", "rad/s")   # of each component
 ISOLATES = "one step of the integrator from each state, against an independent right-hand side"
 # Rows per array operation: bounds the memory of a million-step trajectory (a box's 4 points
 # make about 20 temporaries of rows x 4 doubles) without costing speed.
@@ -266,9 +267,25 @@ def _unstepped(integrator: str | None, details: dict, reason: str, passed: bool 
 
 def first_failure(row: CheckRow) -> str:
     """Where a step check's row first fails, in one clause: the first step over round-off (its
-    time, phase and component), or the first state that is not finite."""
+    time, phase, and the component off, by how much), or the first state that is not finite."""
     d = row.details
     if d.get("first_step") is None:
         return f"state {d.get('nonfinite_step')} is not finite (every step before it within round-off)"
-    return (f"first step over round-off: {d['first_step']} (t = {d['first_time']:.6g} s), "
-            f"{d['phase']}, component {d['component']}")
+    return f"first step over round-off: {d['first_step']} (t = {d['first_time']:.6g} s), {d['phase']}, {first_over(row)}"
+
+
+def first_over(row: CheckRow) -> str:
+    """A failed step row's first component over round-off, in its own unit (a mistake in a
+    force moves the velocities first: positions follow a step later)."""
+    d = row.details
+    unit = UNITS[COMPONENTS.index(d["component"])]
+    return f"{d['component']} off by {d['first_residual']:.3e} {unit} (round-off {d['first_bound']:.3e} {unit})"
+
+
+def largest_residual(row: CheckRow) -> str:
+    """The largest residual over the run of the component a failed step row first failed in."""
+    d = row.details
+    if d.get("component") is None:
+        return f"largest residual {row.position_error_max:.3g} m, {row.angle_error_max:.3g} rad"
+    unit = UNITS[COMPONENTS.index(d["component"])]
+    return f"largest {d['component']} residual {d['residual_max'][d['component']]:.3g} {unit}"

@@ -17,6 +17,7 @@ from ..checks import metrics
 from ..store import cached
 from . import plots
 from ..checks.law_difference import law_lines
+from ..checks.step_check import first_over
 from ..checks.row import CheckRow
 from ..checks.scenario import Result, metrics_json
 from ..table import DASH, markdown, number
@@ -95,7 +96,7 @@ def checks_table(result: Result) -> list[str]:
         reason = c.reason.removeprefix("not judged: ") if c.passed is None else c.reason
         note = "" if c.passed else f" ({reason})"
         d = c.details
-        where = f"; first at step {d['first_step']} ({d.get('phase', '')}, {d.get('component', '')})" \
+        where = f"; first at step {d['first_step']} ({d.get('phase', '')}): {first_over(c)}" \
             if c.passed is False and d.get("first_step") is not None else ""
         rows.append([c.label, c.isolates, diff, tol, f"{_verdict(c.passed)}{note}{where}"])
     return markdown(["check", "what it isolates", "largest difference", "tolerance", "verdict"], rows).splitlines()
@@ -173,8 +174,9 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         ["contact", f"k = {_num(scene.contact.k, ' N/m')}, c = {_num(scene.contact.c, ' N s/m')}, "
                     f"damping law {scene.contact.damping_law}, mu = {scene.contact.mu}, "
                     f"alpha = {scene.contact.alpha} s/m, mu_roll = {scene.contact.mu_roll} m"],
-        [result.simulator, f"{scene.integrator}, dt = {scene.dt:g} s, {scene.steps} steps, "
-                           f"{tested.force_evals} force evaluations, {_num(tested.wall_time, ' s')}"],
+        [result.simulator, f"{tested.integrator}, dt = {scene.dt:g} s, {scene.steps} steps, "
+                           + (f"{tested.force_evals} force evaluations, " if tested.force_evals else "")
+                           + _num(tested.wall_time, " s")],
         ["MuJoCo", f"{twin.integrator}, dt = {twin.dt:g} s, solref mapping `{scene.mujoco.solref}`, "
                    f"cone {scene.mujoco.cone}, {_num(twin.wall_time, ' s')}"],
         ["stability", stability_words(data, scene.integrator)],
@@ -266,8 +268,9 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
         own = r["energy_balance"][r.get("simulator", "custom_sim")]
         twin = r["energy_balance"]["mujoco"]
         failed = ", ".join(r.get("failed_checks", []))
+        ran = r.get("integrator_under_test", r["integrator"])
         table.append([f"[{r['name']}]({r['name']}/index.md)", r.get("simulator", "custom_sim"), r["shape"],
-                      r["integrator"], f"{r['dt']:g}",
+                      ran if ran == r["integrator"] else f"{ran} (the scene's: {r['integrator']})", f"{r['dt']:g}",
                       *map(_num, (r["position_error_max"], r["position_error_rms"], r["angle_error_max"],
                                   own["residual_end"], sum(own["dissipated"].values()), twin["residual_end"],
                                   r["wall_time_custom"], r["wall_time_mujoco"])),
@@ -276,12 +279,19 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
     lines += markdown(INDEX_HEADERS, table).splitlines()
     lines += ["", "## Every judged check", ""]
     checks = [[r["name"], c.label, *map(_num, (c.position_error_max, c.tolerance_position, c.angle_error_max,
-                                               c.tolerance_angle)), _verdict(c.passed)]
+                                               c.tolerance_angle)), _verdict(c.passed) + _step_failure(c)]
               for r in rows for c in map(CheckRow.from_json, r["checks"]) if c.passed is not None]
     lines += markdown(["scenario", "check", "largest position difference (m)", "tolerance (m)",
                        "largest angle difference (rad)", "tolerance (rad)", "verdict"], checks).splitlines()
     lines.append("")
     return "\n".join(lines)
+
+
+def _step_failure(check) -> str:
+    """What a failed step row's position and angle columns cannot show: the component over
+    round-off (a velocity, when the force is wrong)."""
+    d = check.details
+    return f": {first_over(check)} at step {d['first_step']}" if check.passed is False and d.get("first_residual") is not None else ""
 
 
 def write_index(out: Path, rows: list[dict], failures: list[tuple[str, str]]) -> Path:

@@ -9,10 +9,11 @@ def _number(value, unit: str) -> str:
 
 def failure_text(check) -> str:
     """What a failed check (a CheckRow) measured: the component and value that left the tolerance."""
+    from ..checks.step_check import first_over
+
     label, d = check.label, check.details
     if d.get("first_residual") is not None:   # step: per component, per step
-        return (f"{label}: {d['component']} off by {d['first_residual']:.3e} at step {d['first_step']} "
-                f"(t = {d['first_time']:.6g} s, {d['phase']}), round-off bound {d['first_bound']:.3e}")
+        return f"{label}: {first_over(check)} at step {d['first_step']} (t = {d['first_time']:.6g} s, {d['phase']})"
     parts = []
     pos, tol_p = check.position_error_max, check.tolerance_position
     ang, tol_a = check.angle_error_max, check.tolerance_angle

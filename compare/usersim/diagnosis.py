@@ -28,7 +28,7 @@ from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
 from ..checks import mistakes
 from ..checks.case import as_case
-from ..checks.step_check import first_failure
+from ..checks.step_check import first_failure, largest_residual
 from ..table import markdown, number
 from .errors import UserCodeError, UserFault
 from .law_diagnosis import law_findings, law_verdict
@@ -184,8 +184,7 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
 
 def _trajectory_where(row) -> str:
     """The step check's (a CheckRow's) first failing step and largest residual, in one clause."""
-    return (f"{first_failure(row)}, largest residual {row.position_error_max:.3g} m, "
-            f"{row.angle_error_max:.3g} rad")
+    return f"{first_failure(row)}; {largest_residual(row)}"
 
 
 COMPONENTS = ("x", "y", "theta", "vx", "vy", "omega")

@@ -9,12 +9,18 @@ from __future__ import annotations
 
 import sys
 
+from ..checks.step_check import COMPONENTS, UNITS
+
 
 def _cell(row) -> str:
     """A CheckRow in a few words."""
     if row.passed is None:
         return "not judged"
     word = "pass" if row.passed else "FAIL"
+    d = row.details
+    if not row.passed and d.get("first_residual") is not None:   # step: the component over round-off
+        unit = UNITS[COMPONENTS.index(d["component"])]
+        return f"{word} {d['component']} {d['first_residual']:.2e} / {d['first_bound']:.2e} {unit}"
     return f"{word} {row.position_error_max:.2e} m / {row.tolerance_position:.2e} m"
 
 
@@ -35,7 +41,7 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
     scenes = load_all(scenes)
     preflight(sim, scenes)
     ok, judged = True, 0
-    print(f"{'scene':<16} {'identical':<34} {'step':<34} diagnosis")
+    print(f"{'scene':<16} {'identical':<36} {'step':<36} diagnosis")
     for scene in scenes:
         try:
             traj = run_user(sim, scene)
@@ -51,7 +57,7 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
         diag = diagnosis(sim, scene, states)
         ok &= same.passed is not False and step.passed is not False
         judged += (same.passed is not None) + (step.passed is not None)
-        print(f"{scene.name:<16} {_cell(same):<34} {_cell(step):<34} {diag['verdict']}")
+        print(f"{scene.name:<16} {_cell(same):<36} {_cell(step):<36} {diag['verdict']}")
         if markdown:
             print("\n" + render_markdown(diag) + "\n")
     if not judged:

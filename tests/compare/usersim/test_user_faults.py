@@ -68,16 +68,24 @@ def test_a_failed_check_without_an_angle_tolerance_prints_its_position():
 
 
 def test_a_fail_in_a_velocity_component_names_the_component_and_value():
-    from compare.checks.step_check import check_step
+    """A wrong force moves a velocity first: the step row fails with its position and angle
+    within tolerance, so every place that shows the row names the component, its value and unit."""
+    from compare.checks.step_check import check_step, first_failure, largest_residual
+    from compare.report.pages import _step_failure
+    from compare.usersim.validate import _cell
     from custom_sim import simulate
 
     scene = dataclasses.replace(load("box_slide"), duration=0.01)
     states = simulate(scene).states()
-    states[50:, 3] += 1e-6          # vx off from step 50 on: position and angle stay within tolerance
+    states[-1, 3] += 1e-6          # the last step's vx off: no step moves a position by it
     row = check_step(scene, states, scene.integrator, scene.dt)
-    assert row.passed is False
-    text = failure_text(row)
-    assert "vx off by 1.000e-06 at step 50" in text, text
+    assert row.passed is False and row.position_error_max <= row.tolerance_position
+    assert row.angle_error_max <= row.tolerance_angle
+    off = "vx off by 1.000e-06 m/s (round-off "
+    assert off in failure_text(row) and "m/s) at step 100 (t = 0.01 s" in failure_text(row), failure_text(row)
+    assert off in _step_failure(row) and _step_failure(row).endswith("m/s) at step 100"), _step_failure(row)
+    assert re.fullmatch(r"FAIL vx 1\.00e-06 / \S+ m/s", _cell(row)), _cell(row)
+    assert off in first_failure(row) and largest_residual(row) == "largest vx residual 1e-06 m/s", largest_residual(row)
 
 
 def test_a_misspelled_integrator_is_bad_input_naming_the_closest(tmp_path, capsys):
