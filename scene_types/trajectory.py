@@ -112,8 +112,9 @@ def read_csv_text(path: str | Path) -> str:
 def read_csv(path: str | Path, text: str | None = None) -> dict[str, np.ndarray]:
     """Columns of a trajectory CSV by header name: {name: array (rows,)}.
 
-    t,x,y,theta,vx,vy,omega are required, in any order; energy and any other named column are
-    returned when present. Every cell must be a finite number. Raises CsvError (a ValueError)
+    t,x,y,theta,vx,vy,omega are required, in any order; energy is returned when present. Other
+    columns are not read: they may hold anything (a phase's name, a flag, NaN). Every cell of the
+    columns read must be a finite number. Raises CsvError (a ValueError)
     naming the file, the row (1 = the header) or column, and what was expected. The file is
     UTF-8 text, a byte-order mark allowed (read_csv_text); text: its text when already read.
     """
@@ -139,25 +140,29 @@ def read_csv(path: str | Path, text: str | None = None) -> dict[str, np.ndarray]
                        f"expected at least {','.join(REQUIRED_COLUMNS)} (found {','.join(header)})")
     if len(lines) == 1:
         raise CsvError(path, "file", "has a header but no rows; expected at least the t = 0 row")
+    used = [c for c, name in enumerate(header) if name in CSV_COLUMNS]
     try:  # fast path: numpy parses the body; any fault is then located row by row below
-        data = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=header_row, ndmin=2)
-        ok = data.shape == (len(lines) - 1, len(header)) and bool(np.all(np.isfinite(data)))
+        data = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=header_row, ndmin=2, usecols=used)
+        ok = data.shape == (len(lines) - 1, len(used)) and bool(np.all(np.isfinite(data)))
+        ok = ok and all(line.count(",") == len(header) - 1 for _, line in lines[1:])
     except ValueError:
         ok = False
     if not ok:
-        data = _parse_rows(path, header, lines[1:])
-    return {name: data[:, c] for c, name in enumerate(header)}
+        data = _parse_rows(path, header, used, lines[1:])
+    return {header[c]: data[:, j] for j, c in enumerate(used)}
 
 
-def _parse_rows(path: Path, header: list[str], lines: list[tuple[int, str]]) -> np.ndarray:
-    """The body of the file, cell by cell, raising CsvError at the first bad row or cell."""
-    data = np.empty((len(lines), len(header)))
+def _parse_rows(path: Path, header: list[str], used: list[int], lines: list[tuple[int, str]]) -> np.ndarray:
+    """The columns `used` of the file's body, cell by cell, raising CsvError at the first bad row
+    or cell."""
+    data = np.empty((len(lines), len(used)))
     for r, (row_no, line) in enumerate(lines):
         cells = next(csv.reader([line]))
         if len(cells) != len(header):
             raise CsvError(path, f"row {row_no}",
                            f"has {len(cells)} cells; expected {len(header)}, one per header column")
-        for c, cell in enumerate(cells):
+        for j, c in enumerate(used):
+            cell = cells[c]
             where = f"row {row_no} column {c + 1} ({header[c]})"
             try:
                 value = float(cell)
@@ -165,5 +170,5 @@ def _parse_rows(path: Path, header: list[str], lines: list[tuple[int, str]]) -> 
                 raise CsvError(path, where, f"{cell.strip()!r} is not a number") from None
             if not math.isfinite(value):
                 raise CsvError(path, where, f"{cell.strip()} is not a finite number")
-            data[r, c] = value
+            data[r, j] = value
     return data

@@ -98,6 +98,11 @@ def text(result: dict) -> str:
     inertia = "–" if b.get("inertia") is None else f"{b['inertia']:.10g} kg m^2"
     res = "" if b.get("residual") is None else (f"; torque residual {b['residual']:.2g} N m = "
                                                 f"{b['relative']:.2g} of round-off")
+    if b.get("relative") is not None and b["relative"] > 1:   # the fitted inertia is only the closest
+        inertia = (f"none reproduces the torque (the forces found times their arms, r x F, for any "
+                   f"inertia); closest {inertia}")
+    elif b.get("inertia") is not None and b["inertia"] < 0:
+        inertia += " (negative: the torque turns the body the wrong way)"
     why = f" ({b['why']})" if b.get("why") else ""
     lines.append(f"  {'body':<11} mass {b['mass']:g} kg (the scene's: the unit of every force), inertia {inertia}"
                  f"{res}{why}{_match(result, 'body')}")

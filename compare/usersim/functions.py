@@ -243,6 +243,16 @@ class StepFunction(_Function):
         return state
 
 
+def _shape_hint(shape: tuple, n: int) -> str:
+    """What a wrong shape most likely is, for the first common slips of a whole run."""
+    if len(shape) == 2 and shape[1] in (6, 7) and shape[0] in (n, n + 2):
+        return (", one row short: the t = 0 row (the initial state) missing?" if shape[0] == n
+                else ", one row too many: a step past the duration?")
+    if len(shape) == 2 and shape[0] in (6, 7) and shape[1] == n + 1:
+        return ", its transpose: a row per component instead of a row per step"
+    return ""
+
+
 def _non_finite(spec: str, out: np.ndarray, row: int, dt: float) -> UserFault:
     return UserFault(f"{spec} returned a non-finite state {_state_text(out[row])} at step {row} "
                      f"(t = {row * dt:.6g} s) from {_state_text(out[row - 1])} (expected 6 finite numbers {STATE})")
@@ -280,7 +290,7 @@ class WholeFunction(_Function):
             raise UserCodeError(f"{where} returned {_describe(value)} "
                                 f"(expected an array ({n + 1}, 6) of real rows {STATE})") from None
         if data.ndim != 2 or data.shape[0] != n + 1 or data.shape[1] not in (6, 7):
-            raise UserCodeError(f"{where} returned shape {data.shape} "
+            raise UserCodeError(f"{where} returned shape {data.shape}{_shape_hint(data.shape, n)} "
                                 f"(expected ({n + 1}, 6): the t = 0 row, then one row per step of {STATE}; "
                                 "a 7th column may hold the energy)")
         bad = _first_bad_row(data)

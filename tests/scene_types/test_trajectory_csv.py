@@ -33,12 +33,23 @@ def test_round_trip_keeps_every_row_from_t0(tmp_path, trajectory):
     assert np.array_equal(states[0], tr.states()[0]), "row 0 is the initial state"
 
 
-def test_columns_are_read_by_name_in_any_order_and_extras_kept(tmp_path):
+@pytest.mark.parametrize("notes", [("7", "8"), ("sliding", "stuck"), ("nan", ""), ('"a, b"', "1")])
+def test_columns_are_read_by_name_in_any_order_and_others_left_unread(tmp_path, notes):
+    """A column the harness does not read may hold anything (a phase's name, a flag, NaN, a
+    quoted comma): it is neither parsed nor returned."""
     path = tmp_path / "u.csv"
-    path.write_text("omega,vy,vx,theta,y,x,t,note\n3,2,1,0.5,0.25,0.125,0,7\n3,2,1,0.5,0.25,0.25,0.1,8\n")
+    path.write_text(f"omega,vy,vx,theta,y,x,t,note\n3,2,1,0.5,0.25,0.125,0,{notes[0]}\n"
+                    f"3,2,1,0.5,0.25,0.25,0.1,{notes[1]}\n")
     cols = read_csv(path)
-    assert list(cols["x"]) == [0.125, 0.25] and list(cols["t"]) == [0.0, 0.1]
-    assert list(cols["note"]) == [7.0, 8.0] and "energy" not in cols
+    assert list(cols["x"]) == [0.125, 0.25] and list(cols["t"]) == [0.0, 0.1] and list(cols["omega"]) == [3.0, 3.0]
+    assert set(cols) == set(REQUIRED_COLUMNS)
+
+
+def test_a_row_with_a_cell_too_many_is_named_even_in_an_unread_column(tmp_path):
+    path = tmp_path / "u.csv"
+    path.write_text("t,x,y,theta,vx,vy,omega,note\n0,0,0.5,0,1,0,0,a\n0.001,0.001,0.5,0,1,0,0,b,c\n")
+    with pytest.raises(CsvError, match="row 3: has 9 cells; expected 8"):
+        read_csv(path)
 
 
 def test_energy_is_optional(tmp_path):

@@ -57,8 +57,10 @@ PHI = {"tanh": math.tanh, "ramp": lambda x: min(1.0, max(-1.0, x)),
 
 
 def numpy_step(integrator, normal="compression", friction="tanh", rolling="tanh", k=1e4, c=20.0,
-               dissipation=0.0, mu=0.5, alpha=100.0, mu_roll=0.002, sharpness=100.0, spring=None, traction=None):
-    """A seed-style step in plain numpy with the law given here (not the scene's)."""
+               dissipation=0.0, mu=0.5, alpha=100.0, mu_roll=0.002, sharpness=100.0, spring=None, traction=None,
+               torque=1.0, friction_arm=-1.0):
+    """A seed-style step in plain numpy with the law given here (not the scene's); torque and
+    friction_arm put in a mistake of the torque (the seed's: 1 and -1, tau = r x F)."""
     def normal_force(d, vn):
         if spring is not None:
             return spring(d, vn)
@@ -86,7 +88,7 @@ def numpy_step(integrator, normal="compression", friction="tanh", rolling="tanh"
                 continue
             fn = normal_force(d, vy + om * rx)
             ft = friction_force(fn, vx - om * ry) if "friction" in on else 0.0
-            fx, fy, tau = fx + ft, fy + fn, tau + rx * fn - ry * ft
+            fx, fy, tau = fx + ft, fy + fn, tau + torque * (rx * fn + friction_arm * ry * ft)
             if "rolling_friction" in on and rolling != "none":
                 tau -= mu_roll * fn * (math.tanh(sharpness * om) if rolling == "tanh" else float(np.sign(om)))
         return np.array([fx / m, fy / m, tau / inertia if mp["rotates"] else 0.0])
@@ -242,6 +244,23 @@ def test_buggy_example_effects_it_gets_wrong():
     # a point mass has neither mistake: everything matches
     point = identify_step(sim, load("point_drop"))
     assert all(v is not False for v in point["matches_scene"].values())
+
+
+@pytest.mark.parametrize("mistake, words", [
+    ({"friction_arm": 1.0}, "none reproduces the torque (the forces found times their arms, r x F, for any inertia); closest"),
+    ({"torque": -1.0}, "(negative: the torque turns the body the wrong way)"),
+])
+def test_a_torque_that_is_not_r_cross_f_is_not_given_an_inertia(mistake, words):
+    """The friction's arm with the wrong sign: no inertia reproduces the torque, and the inertia
+    fitted is only the closest. Every torque with the wrong sign: an inertia reproduces it, the
+    scene's with its sign turned, which the line says is no body's."""
+    from compare.identify.report import text
+    out = identify_step(Direct(numpy_step("semi_implicit_euler", normal="linear", **mistake)), load("box_drop"))
+    assert out["matches_scene"]["body"] is False
+    line = next(line for line in text(out).splitlines() if line.lstrip().startswith("body"))
+    assert words in line, line
+    if "torque" in mistake:
+        assert close(out["body"]["inertia"], -mass_properties(load("box_drop").body).inertia)
 
 
 # -- the command: table, JSON, exit status, bad input -------------------------------------------

@@ -140,7 +140,9 @@ def test_nan_names_the_step_and_the_state_before(tmp_path, scene):
 
 
 def test_whole_function_wrong_shape_nan_or_start(tmp_path, scene):
-    cases = {"np.zeros((scene['steps'], 6))": "returned shape (100, 6)",
+    cases = {"np.zeros((scene['steps'], 6))": "returned shape (100, 6), one row short: the t = 0 row",
+             "np.zeros((6, scene['steps'] + 1))": "returned shape (6, 101), its transpose",
+             "np.zeros((scene['steps'] + 2, 7))": "returned shape (102, 7), one row too many",
              "np.full((scene['steps'] + 1, 6), np.nan)": "returned a non-finite row 0",
              "np.zeros((scene['steps'] + 1, 6))": "not the scene's initial state"}
     for i, (value, says) in enumerate(cases.items()):
