@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import inspect
 import sys
 import time
 import warnings
@@ -159,11 +160,28 @@ class _Function(_Simulator):
     anything runs) and again at the start of every run (fresh)."""
 
     signature = ""
+    arguments = 0      # the positional arguments the harness calls it with
+    other_flag = ""    # what to say when the function takes the other kind's arguments
 
     def __init__(self, spec: str):
         self.spec = spec
         self.label = spec
         self.fresh()
+        self._check_arguments()
+
+    def _check_arguments(self) -> None:
+        """Bad input before any call: a function that cannot take the arguments it will be given
+        (a step function given --whole, a whole run without it)."""
+        try:
+            parameters = inspect.signature(self.function)
+        except (TypeError, ValueError):   # no signature to read (a builtin, a C extension)
+            return
+        try:
+            parameters.bind(*[None] * self.arguments)
+        except TypeError as exc:
+            raise UserCodeError(f"--sim {self.spec}: {self.function.__name__}{parameters} cannot be called "
+                                f"with {self.arguments} argument{'s' if self.arguments > 1 else ''} ({exc}); "
+                                f"expected {self.signature}{self.other_flag}") from None
 
     def __reduce__(self):  # another process imports it by name
         return (type(self), (self.spec,))
@@ -181,6 +199,8 @@ class StepFunction(_Function):
 
     kind = "step"
     signature = "step(state, scene, dt) -> state"
+    arguments = 3
+    other_flag = " (a whole run, simulate(scene)? add --whole)"
     float32 = False   # set once a step has returned float32 (warned once)
 
     def call(self, state, scene_d: dict, dt: float, step: int = 1) -> np.ndarray:
@@ -263,6 +283,8 @@ class WholeFunction(_Function):
 
     kind = "whole"
     signature = "simulate(scene) -> array (steps + 1, 6)"
+    arguments = 1
+    other_flag = " (a step function? drop --whole)"
 
     def __init__(self, spec: str):
         super().__init__(spec)

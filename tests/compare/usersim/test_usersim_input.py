@@ -151,6 +151,28 @@ def test_whole_function_wrong_shape_nan_or_start(tmp_path, scene):
         assert says in message and "expected" in message
 
 
+@pytest.mark.parametrize("body, whole, says", [
+    ("def step(state, scene, dt):\n    return state\n", True,
+     "step(state, scene, dt) cannot be called with 1 argument (missing a required argument: 'scene'); "
+     "expected simulate(scene) -> array (steps + 1, 6) (a step function? drop --whole)"),
+    ("def step(scene):\n    return None\n", False,
+     "step(scene) cannot be called with 3 arguments (too many positional arguments); expected "
+     "step(state, scene, dt) -> state (a whole run, simulate(scene)? add --whole)"),
+])
+def test_a_function_of_the_other_kind_is_bad_input_before_any_call(tmp_path, capsys, body, whole, says):
+    """--whole given a step function (or a whole run without it) is the command line's slip:
+    exit 2 naming the function and the flag, nothing written (called, it would have been the
+    scene's error row, exit 1)."""
+    spec = module(tmp_path, body) + ":step"
+    out = tmp_path / "out"
+    code = main(["run", "point_drop", "--sim", spec, "--out", str(out), *(["--whole"] if whole else [])])
+    err = capsys.readouterr().err
+    assert code == 2 and says in err and not out.exists(), err
+    # a function with defaults or *args that can take the call is accepted
+    assert load_simulator(module(tmp_path, "def step(state, scene, dt=0.0, *more):\n    return state\n", "ok")
+                          + ":step") is not None
+
+
 def write_csv(folder, scene, header="t,x,y,theta,vx,vy,omega", rows=None, edit=None):
     folder.mkdir(exist_ok=True)
     states = simulate(scene).states()
