@@ -34,7 +34,7 @@ from compare.oracle.reference import Equations
 
 from ..oracle.one_step import METHODS, one_step
 from .row import CheckRow
-from .step_check import COMPONENTS, check_step, first_failure, largest_residual, phase, step_residuals
+from .step_check import COMPONENTS, UNITS as STATE_UNITS, check_step, first_failure, largest_residual, phase, step_residuals
 
 # Steps of a failing trajectory a variant is screened on before the whole trajectory is
 # stepped with it: the correct step's first failures (where a mistake shows) and a spread.
@@ -273,7 +273,7 @@ def candidate(name: str) -> Mistake:
     return parts[0] if len(parts) == 1 else combine(*parts)
 
 
-UNITS = {"x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s"}
+UNITS = dict(zip(COMPONENTS, STATE_UNITS))
 
 
 def contact_loads(eq: Equations, Z):

@@ -28,7 +28,7 @@ from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
 from ..checks import mistakes
 from ..checks.case import as_case
-from ..checks.step_check import first_failure, largest_residual
+from ..checks.step_check import COMPONENTS, UNITS as STATE_UNITS, first_failure, largest_residual
 from ..table import markdown, number
 from .errors import UserCodeError, UserFault
 from .law_diagnosis import law_findings, law_verdict
@@ -187,8 +187,7 @@ def _trajectory_where(row) -> str:
     return f"{first_failure(row)}; {largest_residual(row)}"
 
 
-COMPONENTS = ("x", "y", "theta", "vx", "vy", "omega")
-UNITS = ["x (m)", "y (m)", "theta (rad)", "vx (m/s)", "vy (m/s)", "omega (rad/s)"]
+UNITS = [f"{c} ({u})" for c, u in zip(COMPONENTS, STATE_UNITS)]   # the tables' column heads
 
 
 def _num(v) -> str:
