@@ -34,7 +34,7 @@ from compare.oracle.reference import Equations
 
 from ..oracle.one_step import METHODS, one_step
 from .row import CheckRow
-from .step_check import COMPONENTS, UNITS as STATE_UNITS, check_step, first_failure, largest_residual, phase, step_residuals
+from .step_check import COMPONENTS, UNIT_OF, check_step, first_failure, largest_residual, phase, step_residuals
 
 # Steps of a failing trajectory a variant is screened on before the whole trajectory is
 # stepped with it: the correct step's first failures (where a mistake shows) and a spread.
@@ -273,9 +273,6 @@ def candidate(name: str) -> Mistake:
     return parts[0] if len(parts) == 1 else combine(*parts)
 
 
-UNITS = dict(zip(COMPONENTS, STATE_UNITS))
-
-
 def contact_loads(eq: Equations, Z):
     """Per state and point, under the scene's law: depth d (N, n) m, normal velocity vc_y
     (N, n) m/s, slip vc_x (N, n) m/s and normal force Fn (N, n) N (0 where d <= 0)."""
@@ -413,7 +410,7 @@ def diagnose(scene, states, integrator: str, dt: float, input_rtol: float = 0.0,
         i = int(failing[0])
         ref = one_step(eq, states[i], dt, integrator, rtol=input_rtol)[0][0]
         dz = states[i + 1] - ref
-        off = ", ".join(f"{c} {dz[k]:+.3g} {UNITS[c]}" for k, c in enumerate(COMPONENTS) if res.over[i, k])
+        off = ", ".join(f"{c} {dz[k]:+.3g} {UNIT_OF[c]}" for k, c in enumerate(COMPONENTS) if res.over[i, k])
         out["force"] = {"where": f"step {i + 1}", "step": i + 1, "time": float((i + 1) * dt), "off": off,
                         **force_difference(eq, states[i], dz, dt)}
     spread = np.linspace(0, states.shape[0] - 2, SCREEN_STEPS // 2).astype(int)
@@ -560,7 +557,7 @@ def off_text(entry: dict) -> str:
     """A disagreeing moment's components off round-off, signed (your step minus the
     reference's): 'vx +0.00051 m/s, vy -0.00102 m/s'."""
     d, ratio = entry["difference"], entry["ratios"]
-    return ", ".join(f"{c} {d[c]:+.3g} {UNITS[c]}" for c in COMPONENTS if ratio[c] > 1.0)
+    return ", ".join(f"{c} {d[c]:+.3g} {UNIT_OF[c]}" for c in COMPONENTS if ratio[c] > 1.0)
 
 
 def diagnose_step(step_fn, scene, moments, integrator: str | None = None, dt: float | None = None,

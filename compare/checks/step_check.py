@@ -23,6 +23,7 @@ from .row import CheckRow
 
 COMPONENTS = ("x", "y", "theta", "vx", "vy", "omega")
 UNITS = ("m", "m", "rad", "m/s", "m/s", "rad/s")   # of each component
+UNIT_OF = dict(zip(COMPONENTS, UNITS))
 ISOLATES = "one step of the integrator from each state, against an independent right-hand side"
 # Rows per array operation: bounds the memory of a million-step trajectory (a box's 4 points
 # make about 20 temporaries of rows x 4 doubles) without costing speed.
@@ -278,7 +279,7 @@ def first_over(row: CheckRow) -> str:
     """A failed step row's first component over round-off, in its own unit (a mistake in a
     force moves the velocities first: positions follow a step later)."""
     d = row.details
-    unit = UNITS[COMPONENTS.index(d["component"])]
+    unit = UNIT_OF[d["component"]]
     return f"{d['component']} off by {d['first_residual']:.3e} {unit} (round-off {d['first_bound']:.3e} {unit})"
 
 
@@ -287,5 +288,5 @@ def largest_residual(row: CheckRow) -> str:
     d = row.details
     if d.get("component") is None:
         return f"largest residual {row.position_error_max:.3g} m, {row.angle_error_max:.3g} rad"
-    unit = UNITS[COMPONENTS.index(d["component"])]
+    unit = UNIT_OF[d["component"]]
     return f"largest {d['component']} residual {d['residual_max'][d['component']]:.3g} {unit}"

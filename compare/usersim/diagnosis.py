@@ -28,7 +28,7 @@ from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
 from ..checks import mistakes
 from ..checks.case import as_case
-from ..checks.step_check import COMPONENTS, UNITS as STATE_UNITS, first_failure, largest_residual
+from ..checks.step_check import COMPONENTS, UNITS, first_failure, largest_residual
 from ..table import markdown, number
 from .errors import UserCodeError, UserFault
 from .law_diagnosis import law_findings, law_verdict
@@ -187,7 +187,7 @@ def _trajectory_where(row) -> str:
     return f"{first_failure(row)}; {largest_residual(row)}"
 
 
-UNITS = [f"{c} ({u})" for c, u in zip(COMPONENTS, STATE_UNITS)]   # the tables' column heads
+HEADS = [f"{c} ({u})" for c, u in zip(COMPONENTS, UNITS)]   # the tables' column heads
 
 
 def _num(v) -> str:
@@ -255,13 +255,13 @@ def render_markdown(diag: dict, heading: bool = True) -> str:
                                 "yes" if e["agrees"] else "**no**", e["component"] or "", _num(e["ratio_max"]),
                                 ", ".join(e["explained_by"])] for e in m["moments"]]).splitlines()
             lines += ["", "Residuals per component (your step minus the reference step, from the same state):", ""]
-            lines += _table(["moment", *UNITS],
+            lines += _table(["moment", *HEADS],
                             [[e["name"], *(f"{e['residual'][c]:.3g}" for c in COMPONENTS)] for e in m["moments"]])
     t = diag["trajectory"]
     lines += ["### Every step of your trajectory", "", t.get("verdict", ""), ""]
     row = t.get("step", {})
     if row.get("residual_max"):
-        lines += _table(["", *UNITS],
+        lines += _table(["", *HEADS],
                         [["largest one-step residual", *(f"{row['residual_max'][c]:.3g}" for c in COMPONENTS)]])
     tried = [x for x in t.get("mistakes", []) if not x.get("screened_out")]
     if tried:

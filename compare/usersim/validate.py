@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import sys
 
-from ..checks.step_check import COMPONENTS, UNITS
+from ..checks.step_check import UNIT_OF
 
 
 def _cell(row) -> str:
@@ -19,8 +19,7 @@ def _cell(row) -> str:
     word = "pass" if row.passed else "FAIL"
     d = row.details
     if not row.passed and d.get("first_residual") is not None:   # step: the component over round-off
-        unit = UNITS[COMPONENTS.index(d["component"])]
-        return f"{word} {d['component']} {d['first_residual']:.2e} / {d['first_bound']:.2e} {unit}"
+        return f"{word} {d['component']} {d['first_residual']:.2e} / {d['first_bound']:.2e} {UNIT_OF[d['component']]}"
     return f"{word} {row.position_error_max:.2e} m / {row.tolerance_position:.2e} m"
 
 
