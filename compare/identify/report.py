@@ -98,7 +98,13 @@ def text(result: dict) -> str:
     inertia = "–" if b.get("inertia") is None else f"{b['inertia']:.10g} kg m^2"
     res = "" if b.get("residual") is None else (f"; torque residual {b['residual']:.2g} N m = "
                                                 f"{b['relative']:.2g} of round-off")
-    if b.get("relative") is not None and b["relative"] > 1:   # the fitted inertia is only the closest
+    if b.get("rotates") is False:   # a point: what is checked is that the step does not turn it
+        inertia = "– (a point mass does not turn)"
+        res = "" if b.get("residual") is None else (f"; angular acceleration {b['residual']:.2g} rad/s^2 = "
+                                                    f"{b['relative']:.2g} of round-off")
+        if b.get("relative") is not None and b["relative"] > 1:
+            inertia = "– (the step turns the point mass, which has nothing to turn it)"
+    elif b.get("relative") is not None and b["relative"] > 1:   # the fitted inertia is only the closest
         inertia = (f"none reproduces the torque (the forces found times their arms, r x F, for any "
                    f"inertia); closest {inertia}")
     elif b.get("inertia") is not None and b["inertia"] < 0:

@@ -95,7 +95,7 @@ def body_entry(law_s, fit: dict | None, found, missing: list[int], scene, turn=N
     out = {"mass": law_s.mass, "inertia": None if fit is None else fit["inertia"], "contact_points": pts,
            "points_rotate": turn, "residual": None if fit is None else fit["residual"],
            "relative": None if fit is None else fit["relative"],
-           "points_residual": worst_m, "points_relative": worst_rel}
+           "points_residual": worst_m, "points_relative": worst_rel, "rotates": bool(rotates)}
     if not rotates and fit is not None:
         out["inertia"] = 0.0
     never = [i for i, p in enumerate(pts) if p is None and i not in missing]
@@ -131,13 +131,16 @@ INERTIA_RTOL = 1e-9
 def _same_inertia(body: dict, scene) -> bool:
     """The scene's own inertia reproduces the torques to round-off (the file's rounding included),
     or the inertia found is the scene's (the oracle's geometry) where the scene's law does not
-    reproduce them (another law: the torques then say nothing of the scene's inertia alone)."""
+    reproduce them (another law: the torques then say nothing of the scene's inertia alone) and
+    the inertia found does (a body no inertia reproduces is no body's, the scene's included)."""
     from compare.oracle.rigid_body import rigid_body
 
     if body["scene_relative"] <= 1.0:
         return True
     found = body.get("inertia")
     if found is None or not math.isfinite(found):
+        return False
+    if body.get("relative") is not None and not body["relative"] <= 1.0:
         return False
     want = rigid_body(scene.body).inertia if rigid_body(scene.body).rotates else 0.0
     return abs(found - want) <= INERTIA_RTOL * max(abs(want), np.finfo(float).tiny)

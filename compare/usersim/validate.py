@@ -30,7 +30,8 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
     from ..scenarios import load_all
     from ..checks.identical_check import check_identical
     from ..checks.step_check import check_step
-    from . import diagnosis, load_simulator, render_markdown, run_user
+    from . import load_simulator, render_markdown, run_user
+    from .purity import keeps_state
 
     from . import UserFault, preflight
 
@@ -53,7 +54,10 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
         states = traj.states()
         same = check_identical(scene, states, traj.integrator, scene.dt, traj.meta["rounding"])
         step = check_step(scene, states, traj.integrator, scene.dt, rounding=traj.meta["rounding"])
-        diag = diagnosis(sim, scene, states)
+        stateful = keeps_state(sim, scene, states)   # as `run` does: no probes of a step that keeps state
+        if stateful:
+            print(f"warning: {scene.name}: {stateful}", file=sys.stderr)
+        diag = sim.diagnose(scene, traj, probe=stateful is None, step_row=step)   # the file's rounding too
         ok &= same.passed is not False and step.passed is not False
         judged += (same.passed is not None) + (step.passed is not None)
         print(f"{scene.name:<16} {_cell(same):<36} {_cell(step):<36} {diag['verdict']}")

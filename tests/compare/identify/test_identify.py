@@ -263,6 +263,24 @@ def test_a_torque_that_is_not_r_cross_f_is_not_given_an_inertia(mistake, words):
         assert close(out["body"]["inertia"], -mass_properties(load("box_drop").body).inertia)
 
 
+def test_a_point_mass_that_turns_is_not_the_scenes_body():
+    """A point mass has no inertia to fit: the step must leave omega alone. One that spins it up
+    (0.1 rad/s^2) is no body's, though the inertia compared (0) is the scene's."""
+    from compare.identify.report import text
+    scene = load("point_drop")
+    seed = custom_step(scene)
+
+    def spinning(state, scene_d, dt):
+        z = np.array(seed(state, scene_d, dt))
+        z[5] += 0.1 * dt
+        return z
+    out = identify_step(Direct(spinning), scene)
+    assert out["matches_scene"]["body"] is False and out["body"]["rotates"] is False
+    line = next(line for line in text(out).splitlines() if line.lstrip().startswith("body"))
+    assert "the step turns the point mass" in line and "rad/s^2" in line and "N m" not in line, line
+    assert identify_step(Direct(seed), scene)["matches_scene"]["body"] is True
+
+
 # -- the command: table, JSON, exit status, bad input -------------------------------------------
 
 def test_command_json_and_table(capsys):

@@ -88,6 +88,28 @@ def test_a_fail_in_a_velocity_component_names_the_component_and_value():
     assert off in first_failure(row) and largest_residual(row) == "largest vx residual 1e-06 m/s", largest_residual(row)
 
 
+def test_a_torque_mistake_under_explicit_euler_is_named_in_omega_on_every_page(tmp_path, capsys):
+    """The friction's torque with the wrong sign, under explicit Euler (declared): a step moves
+    omega only, the positions a step later. The line, the index and the scene's page name omega
+    with its value in rad/s, and the integrator the simulator ran beside the scene's."""
+    body = (SEED.replace("tau += rx * fn - ry * ft", "tau += rx * fn + ry * ft")
+            .replace('method = scene["integrator"]', 'method = "explicit_euler"') + '\nINTEGRATOR = "explicit_euler"\n')
+    assert body.count("explicit_euler") == SEED.count("explicit_euler") + 2 and "+ ry * ft" in body
+    spec = write(tmp_path, body, seed=False) + ":step"
+    out = tmp_path / "out"
+    code, printed, _ = run_cli(["run", short_file(tmp_path, "box_slide", 0.05), "--sim", spec, "--out", str(out)], capsys)
+    assert code == 1
+    omega = r"omega off by \S+ rad/s \(round-off \S+ rad/s\)"
+    assert re.search(r"step \(explicit_euler\): " + omega + r" at step 1 ", printed), printed
+    index = (out / "index.md").read_text()
+    assert re.search(r"\| step \(explicit_euler\) .*\*\*FAIL\*\*: " + omega + r" at step 1 ", index), index
+    assert "explicit_euler (the scene's: semi_implicit_euler)" in index
+    page = (out / "box_slide" / "index.md").read_text()
+    assert re.search(r"first at step 1 \(.*\): " + omega + r" \|", page), page
+    # the simulator's row: the integrator it ran, no force evaluations (the harness cannot count them)
+    assert re.search(r"user_sim\.py:step \| explicit_euler, dt = 0\.0001 s, 500 steps, \S+ s +\|", page), page
+
+
 def test_a_misspelled_integrator_is_bad_input_naming_the_closest(tmp_path, capsys):
     spec = write(tmp_path, 'INTEGRATOR = "Semi-implicit Euler"\n') + ":step"
     out = tmp_path / "out"

@@ -165,6 +165,29 @@ def test_csv_route_with_ten_digits(tmp_path):
     assert row.passed is False
 
 
+def test_validate_diagnoses_a_rounded_file_to_its_rounding(tmp_path, capsys):
+    """The buggy example's run written with 6 decimals: validate's diagnosis allows for the
+    file's rounding as its step check does (which fails first in contact), and names the
+    example's two mistakes, not a step of the flight whose only difference is the last decimal."""
+    from compare.checks.step_check import check_step
+    from compare.cli import main
+    text = (ROOT / "scenarios" / "box_drop.toml").read_text().replace("duration = 2.0", "duration = 0.3")
+    (tmp_path / "box_drop.toml").write_text(text)
+    scene = dataclasses.replace(load("box_drop"), duration=0.3)
+    states = run_user(BUGGY, scene).states()
+    (tmp_path / "runs").mkdir()
+    np.savetxt(tmp_path / "runs" / "box_drop.csv", np.column_stack([np.arange(len(states)) * scene.dt, states]),
+               delimiter=",", header="t,x,y,theta,vx,vy,omega", comments="", fmt="%.6f")
+    files = load_simulator(trajectories=str(tmp_path / "runs"))
+    traj = run_user(files, scene)
+    step = check_step(scene, traj.states(), traj.integrator, scene.dt, rounding=traj.meta["rounding"])
+    assert step.passed is False and "flight" not in step.details["phase"], step.details
+    assert main(["validate", "--trajectories", str(tmp_path / "runs"), str(tmp_path / "box_drop.toml")]) == 1
+    line = capsys.readouterr().out.splitlines()[1]
+    assert "explained by friction_on_com_velocity" in line and "box_inertia_about_corner" in line, line
+    assert "flight" not in line, line
+
+
 def test_an_unknown_integrator_is_not_diagnosed_but_said(tmp_path):
     path = tmp_path / "verlet.py"
     path.write_text(f"import sys\nsys.path.insert(0, {str(ROOT / 'examples')!r})\nfrom seed_sim import step\n"
