@@ -23,6 +23,9 @@ from ..usersim.scene_dict import scene_dict
 FIT_ROWS = 3000
 # Starting points of a sharpness (alpha, roll_sharpness) around the scene's, for a fit over a run.
 SHARPNESS_STARTS = (0.1, 1.0, 10.0)
+# Under RK4 a step's velocity change in one channel depends on every force at its stages: each
+# channel is fitted beside the others' laws as found so far, and again while that gets closer.
+RK4_PASSES = 3
 
 
 def _rows(mask: np.ndarray, weight: np.ndarray | None = None) -> np.ndarray:
@@ -98,6 +101,14 @@ class RunIdentification:
             if min(first.values()) <= 1.0:
                 candidates = [c for c in candidates if first[c] <= 1.0]
         results = {c: self._fit_laws(law, c) for c in candidates}
+        if "rk4" in results:   # RK4's stages couple the channels: fit each again beside the others found
+            for _ in range(RK4_PASSES):
+                if results["rk4"]["score"] <= 1.0:
+                    break
+                again = self._fit_laws(results["rk4"]["law"], "rk4")
+                if not again["score"] <= results["rk4"]["score"]:   # inf while a channel fits no family
+                    break
+                results["rk4"] = again
         best = min(candidates, key=lambda c: results[c]["score"])
         res = results[best]
         fitting = [c for c in candidates if results[c]["score"] <= 1.0]
@@ -181,7 +192,7 @@ class RunIdentification:
         rows = _rows(touching)
         fits, laws = [], {}
         for fam in FAMILIES["normal"]:
-            start = self._start(law.normal if law.normal else None, fam)
+            start = law.normal[1] if law.normal and law.normal[0] is fam else self._start(None, fam)
             trial = law.with_(normal=(fam, start))
             slots = forward.family_slots(trial, "normal")
             for integ in (integrator,):
