@@ -25,7 +25,7 @@ def cache_folder() -> Path:
     NUMBA_CACHE_DIR when that is set."""
     try:
         from .forces import tanh
-        return Path(tanh._cache._cache_path)
+        return Path(tanh._cache._cache_path)  # type: ignore[attr-defined]  # numba types no _cache
     except Exception:  # another numba layout: its default, in-tree
         return PACKAGE / "__pycache__"
 
