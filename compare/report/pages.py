@@ -89,9 +89,9 @@ def write_skipped(result: Result, out: Path) -> dict:
             f"# {scene.name}", "", scene.description, "",
             f"**SKIPPED**: {result.skipped}.", "",
             f"The simulator under test, **{result.simulator}**, does not do this scene (a {scene.body.shape} body): "
-            "nothing was run or judged, and it fails nothing. A module says which bodies it does with "
+            "none of its checks ran, and it fails nothing. A module says which bodies it does with "
             "`SHAPES = (\"box\", ...)`; a step says it does not do a scene by raising `NotImplementedError(\"why\")` "
-            "(docs/validate-your-simulator.md).", ""]))
+            "(docs/validate-your-simulator.md).", ""]) + "\n")
         if final.exists():
             shutil.rmtree(final)
         os.replace(tmp, final)

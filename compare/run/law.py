@@ -15,13 +15,17 @@ def under_law(scenes, law: str, simulator):
         raise BadInput("--law identified: expected --sim MODULE:FUNCTION (a step function, or with --whole "
                        "a whole run) or --trajectories DIR, whose law `identify` can find")
     from ..identify import NotIdentified, identified_contact, identify
-    from ..usersim import UserCodeError, UserFault
+    from ..usersim import SceneSkipped, UserCodeError, UserFault
     out = []
     for scene in scenes:
         try:
             out.append(with_law(scene, identified_contact(scene, identify(simulator, scene)), "identified"))
+        except SceneSkipped:   # a scene the simulator does not do: as it is, its run skips it too
+            out.append(scene)
         except NotIdentified as exc:
             raise BadInput(f"--law identified: {exc} (`python -m compare identify` shows each effect)") from None
         except UserFault as exc:
-            raise UserCodeError(f"--law identified: {exc}", getattr(exc, "details", "")) from None
+            raise UserCodeError(f"--law identified: {scene.name}: {exc}", getattr(exc, "details", "")) from None
+        except UserCodeError as exc:
+            raise UserCodeError(f"--law identified: {scene.name}: {exc}", exc.details) from None
     return out
