@@ -145,9 +145,7 @@ def test_run_lists_skipped_scenes_and_judges_the_others_under_the_identified_law
     # before any scene ran, identify met the point scene and stopped the whole run (exit 2)
 
 
-def test_a_run_where_every_scene_was_skipped_exits_1_and_an_error_row_is_printed_once(tmp_path, capsys):
-    """SHAPES skips the circle; the point scene meets code that reads a box's size (KeyError):
-    its error row is printed once, with its scene, and its traceback after the scene's name."""
+def test_a_run_where_every_scene_was_skipped_exits_1(tmp_path, capsys):
     out = tmp_path / "out"
     code, printed, err = run_cli(["run", short_file(tmp_path, "rolling_circle"), "--sim", SHAPES_SIM,
                                   "--out", str(out)], capsys)
@@ -155,6 +153,11 @@ def test_a_run_where_every_scene_was_skipped_exits_1_and_an_error_row_is_printed
     assert "rolling_circle       skipped  a circle body, not in the module's SHAPES = ('box',)\n" in printed, printed
     assert json.loads((out / "rolling_circle" / "metrics.json").read_text())["status"] == "skipped"
 
+
+def test_an_error_row_is_printed_once_with_its_scene(tmp_path, capsys):
+    """Code that reads a box's size meets a point (KeyError, not NotImplementedError): its error
+    row is printed once, with its scene, and its traceback after the scene's name."""
+    out = tmp_path / "out"
     sizes = module(tmp_path, """
         def step(z, scene, dt):
             w, h = scene["body"]["size"]
@@ -178,6 +181,20 @@ def test_validate_skips_the_scenes_the_code_does_not_do(tmp_path, capsys):
     assert re.search(r"^box_slide +pass ", printed, re.M), printed
     code, printed, _ = run_cli(["validate", SHAPES_SIM, point], capsys)
     assert code == 1 and "every scene" in printed, printed
+
+
+def test_validate_under_a_law_file_and_the_identified_law(tmp_path, capsys):
+    """The outsider's own law (unclamped, smooth Coulomb): the scene's law fails it; under the law
+    identify finds, or a file holding that law, it passes."""
+    outsider = str(ROOT / "tests" / "outsiders" / "rk4_smooth_unclamped.py") + ":step"
+    box = short_file(tmp_path, "box_slide", 0.02)
+    law = tmp_path / "law.toml"
+    law.write_text('[contact]\ndamping_law = "unclamped"\nc = 15.0\nfriction_law = "smooth_coulomb"\nalpha = 50.0\n')
+    code, printed, _ = run_cli(["validate", outsider, box], capsys)
+    assert code == 1 and re.search(r"^box_slide +FAIL ", printed, re.M), printed
+    for given in ("identified", str(law)):
+        code, printed, _ = run_cli(["validate", outsider, box, "--law", given], capsys)
+        assert code == 0 and re.search(r"^box_slide +pass .* pass ", printed, re.M), (given, printed)
 
 
 def test_identify_over_every_scene_skips_those_the_code_does_not_do(capsys):
