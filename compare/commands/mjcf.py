@@ -47,6 +47,9 @@ def main(args) -> int:
     return EXIT_OK
 
 
+OWN, LAWS = "the scene's '", "the law's '"   # the notes name a scene's own law; here it is --law's
+
+
 def with_law_comments(xml: str, scene, mapping: str) -> str:
     """The MJCF with comments after its opening one: the law it was built under (where from,
     each effect's family and parameters) and, per effect, what MuJoCo cannot express of it
@@ -61,7 +64,7 @@ def with_law_comments(xml: str, scene, mapping: str) -> str:
         notes += damping_note(scene, mapping) + friction_law_notes(scene) + roll_law_notes(scene)
     else:
         notes.append("the scene lists no contact: no law is used")
-    comments = "".join(f"  <!-- {_comment_text(n)} -->\n" for n in notes)
+    comments = "".join(f"  <!-- {_comment_text(n.replace(OWN, LAWS))} -->\n" for n in notes)
     head, sep, rest = xml.partition("-->\n")   # after the opening comment (spec.py's header)
     return head + sep + comments + rest if sep else comments + xml
 

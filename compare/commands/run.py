@@ -6,8 +6,8 @@ CSVs, model.xml, plots), into a hidden folder first, then moved into place whole
 status: 0 every scenario judged and every judged check within its tolerance; 1 a check
 outside it, or a scenario that could not be judged (nothing judged, unstable, timed out, or an
 error: its row says why), or every scenario skipped (a scene the simulator under test says it
-does not do: SHAPES, NotImplementedError; skipped scenes fail nothing); 2 bad input (nothing is written); 130 stopped with Ctrl-C (nothing
-is written).
+does not do: SHAPES, NotImplementedError; skipped scenes fail nothing); 2 bad input (nothing
+is written); 130 stopped with Ctrl-C (nothing is written).
 """
 from __future__ import annotations
 

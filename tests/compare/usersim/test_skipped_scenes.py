@@ -254,8 +254,8 @@ def test_mjcf_under_a_law_file_names_what_mujoco_cannot_express(tmp_path, capsys
     comments = re.findall(r"<!-- (.*?) -->", xml)
     assert any(c.startswith(f"contact law: the law of {law}, laid over the scene's [contact]: normal hunt_crossley")
                for c in comments), comments
-    assert any(c.startswith("damping law: the scene's 'hunt_crossley'") for c in comments), comments
-    assert any(c.startswith("friction law: the scene's 'sign'") for c in comments), comments
+    assert any(c.startswith("damping law: the law's 'hunt_crossley'") for c in comments), comments
+    assert any(c.startswith("friction law: the law's 'sign'") for c in comments), comments
     # the nearest mapping: hunt_crossley's damping is no constant, so the twin's solref damping is 0
     assert re.search(r'solref="-\S+ -\S+"', own) and re.search(r'solref="-\S+ 0"', xml), xml
     model = mujoco.MjModel.from_xml_string(xml)   # the comments keep it a model MuJoCo loads
