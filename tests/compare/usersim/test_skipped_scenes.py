@@ -145,6 +145,26 @@ def test_run_lists_skipped_scenes_and_judges_the_others_under_the_identified_law
     # before any scene ran, identify met the point scene and stopped the whole run (exit 2)
 
 
+def test_the_identified_law_over_every_built_in_scene_keeps_the_skipped_ones_as_they_are():
+    """`--law identified` over every built-in with box-only code: the box scenes under the law
+    identify found (the scene's own, as the code follows it), the others as they are, with why."""
+    from compare.run.law import under_law
+    from compare.scenarios import load_all
+    scenes = load_all([])
+    skipped = {}
+    judged = under_law(scenes, "identified", load_simulator(CLASS_SIM), skipped)
+    assert [s.name for s in judged] == [s.name for s in scenes]
+    boxes = {s.name for s in scenes if s.body.shape == "box"}
+    assert boxes and set(skipped) == {s.name for s in scenes} - boxes, skipped
+    assert skipped["t_shape_drop"] == "BoxWorld does boxes only, not a compound"
+    for before, after in zip(scenes, judged):
+        if before.name in boxes:
+            assert after.law_from == "identified" and after.contact.damping_law == before.contact.damping_law
+            assert after.contact.k == pytest.approx(before.contact.k, rel=1e-9)
+        else:
+            assert after is before
+
+
 def test_a_run_where_every_scene_was_skipped_exits_1(tmp_path, capsys):
     out = tmp_path / "out"
     code, printed, err = run_cli(["run", short_file(tmp_path, "rolling_circle"), "--sim", SHAPES_SIM,
