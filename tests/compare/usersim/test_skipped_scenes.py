@@ -102,6 +102,22 @@ def test_not_implemented_error_skips_with_its_message_and_the_step_when_not_the_
     assert caught.value.reason == "the code raised NotImplementedError"
 
 
+def test_a_skipped_scene_runs_nothing_else(tmp_path):
+    """NotImplementedError at the first step: the scene is skipped after that one call (no
+    contact variant, no second call to see whether the step keeps state, no diagnosis probe)."""
+    from compare.checks.scenario import run_scenario
+    calls = tmp_path / "calls"
+    spec = module(tmp_path, f"""
+        def step(z, scene, dt):
+            with open({str(calls)!r}, "a") as f:
+                f.write(scene["name"] + "\\n")
+            raise NotImplementedError("not this one")
+        """)
+    result = run_scenario(load(short_file(tmp_path, "box_slide")), load_simulator(spec))
+    assert result.status == "skipped" and result.skipped == "not this one" and not result.checks
+    assert calls.read_text() == "box_slide\n"
+
+
 def test_the_contact_variant_a_step_does_not_do_is_not_judged_and_the_scene_still_is(tmp_path):
     """The contact check's variant (friction off, the linear law) raising NotImplementedError
     leaves that check not judged; the scene itself is judged, not skipped."""
