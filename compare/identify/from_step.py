@@ -17,6 +17,7 @@ from .model import Law
 from .observed import Rows, TorqueRows, fit_effect, fit_torque, model_of, torque_model
 from .onset import OnsetSearch
 from .probes import Probes, Scales, contact_states, flight, pairs
+from .replay import keeps_state
 from .result import body_entry, effect_entry, gravity_entry, integrator_entry, not_exercised
 from .roundoff import inertias, rate_bound
 from .stepping import contact_shown, decide, integrator_tests, rates, restart_states
@@ -72,6 +73,15 @@ class StepIdentification:
         if contact:
             P2 = pairs(self.geometry_scene, self.scales)
             P2.Z1 = self.calls.many(P2.Z0, P2.H, "contact at dt and dt/2")
+        # purity before any law: the probes so far (flight, contact) replayed out of order
+        made = [F] if P2 is None else [F, P2]
+        with self.calls.session():
+            stateful = keeps_state(self.calls, np.vstack([p.Z0 for p in made]),
+                                   np.concatenate([np.broadcast_to(p.H, (len(p),)) for p in made]),
+                                   np.vstack([p.Z1 for p in made]), "flight and contact")
+        if stateful:
+            return self._from_run(stateful)
+        if contact:
             Zr, Hr = restart_states(P2)
             restart = ((Zr, Hr), self.calls.many(Zr, Hr, "implicit Euler restart"))
         law0 = law_s.with_(g=g_use)
@@ -112,8 +122,18 @@ class StepIdentification:
                                  rotates=self.geometry_scene.rotates)
         return self._finish(out, start)
 
+    def _from_run(self, why: str) -> dict:
+        """A step that keeps state: identified by regression over its own sequential run from the
+        scene's start (the --whole route), where that run allows."""
+        from .whole_run import identify_run
+        run = self.calls.simulator.run(self.scene)
+        out = identify_run(run.states, self.scene, run.rounding, "run")
+        out.update(keeps_state=True, keeps_state_why=why, calls=self.calls.count)
+        return out
+
     def _finish(self, out: dict, start: float) -> dict:
         from .result import matches
+        out["keeps_state"] = False
         out["matches_scene"] = matches(out, self.scene)
         out["calls"] = self.calls.count
         out["seconds"] = time.perf_counter() - start

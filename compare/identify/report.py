@@ -71,8 +71,11 @@ def _effect_line(result: dict, effect: str) -> str:
 def text(result: dict) -> str:
     """A few lines per scene: each effect's family and parameters, or what came closest."""
     src = {"step": f"{result.get('calls', 0)} designed calls", "whole": f"{result.get('steps', 0)} steps of its run",
-           "trajectories": f"{result.get('steps', 0)} steps of its CSV"}.get(result.get("from"), "")
+           "trajectories": f"{result.get('steps', 0)} steps of its CSV",
+           "run": f"{result.get('steps', 0)} steps of its sequential run"}.get(result.get("from"), "")
     lines = [f"{result['scene']}  ({src}, {result.get('seconds', 0.0):.2f} s)"]
+    if result.get("keeps_state"):
+        lines.append(f"  {'keeps state':<11} {result.get('keeps_state_why', '')}")
     it = result["integrator"]
     if it["name"] is not None:
         lines.append(f"  {'integrator':<11} {it['name']} ({it.get('why', '')}){_match(result, 'integrator')}")

@@ -159,6 +159,7 @@ class RunIdentification:
         return res, rel
 
     def _finish(self, out, start):
+        out["keeps_state"] = False   # a run's states are read as given: no call is replayed
         out["matches_scene"] = matches(out, self.scene)
         out["seconds"] = time.perf_counter() - start
         return out
