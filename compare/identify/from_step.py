@@ -18,7 +18,7 @@ from .observed import Rows, TorqueRows, fit_effect, fit_torque, model_of, torque
 from .onset import OnsetSearch
 from .probes import Probes, Scales, contact_states, flight, pairs
 from .replay import keeps_state
-from .result import body_entry, effect_entry, gravity_entry, integrator_entry, not_exercised
+from .result import body_entry, effect_entry, settle_body, gravity_entry, integrator_entry, not_exercised
 from .roundoff import inertias, rate_bound
 from .stepping import contact_shown, decide, integrator_tests, rates, restart_states
 
@@ -120,6 +120,9 @@ class StepIdentification:
                 out[effect] = effect_entry(effect, *fits[effect], fits["scene_" + effect])
         out["body"] = body_entry(law_s, fits["body"], found, missing, scene, turn=turn,
                                  rotates=self.geometry_scene.rotates)
+        # Euler: the torque rests on the forces read off the step and the rolling law fitted beside
+        # the inertia; RK4: on every law found, stepped here
+        settle_body(out, ("normal", "friction", "rolling") if used == "rk4" else ("rolling",))
         return self._finish(out, start)
 
     def _from_run(self, why: str) -> dict:

@@ -32,11 +32,14 @@ def _g(x, unit: str = "") -> str:
 
 
 def params_text(entry: dict, effect: str) -> str:
+    """The parameters of the entry's family only (none for "none", no c for hunt_crossley: the
+    JSON's fill-ins for the others are the scene file's, not findings)."""
+    from .families import BY_NAME
+    fam = BY_NAME.get((effect, entry.get("law")))
     parts = []
-    for p in PARAMS[effect]:
+    for p in PARAMS[effect] if fam is None else fam.params:
         v = entry.get(p)
-        if v is None or (p in ("c", "dissipation") and v == 0.0 and entry.get("law") is not None
-                         and (p == "c") == (entry.get("law") == "hunt_crossley")):
+        if v is None:
             continue
         parts.append(f"{p} {_g(v, UNITS[p])}")
     return ", ".join(parts)
@@ -107,12 +110,17 @@ def text(result: dict) -> str:
                                                     f"{b['relative']:.2g} of round-off")
         if b.get("relative") is not None and b["relative"] > 1:
             inertia = "– (the step turns the point mass, which has nothing to turn it)"
-    elif b.get("relative") is not None and b["relative"] > 1:   # the fitted inertia is only the closest
-        inertia = (f"none reproduces the torque (the forces found times their arms, r x F, for any "
-                   f"inertia); closest {inertia}")
+    elif b.get("inertia") is None and b.get("closest"):   # the fitted inertia is only the closest
+        c = b["closest"]
+        near = "–" if c.get("inertia") is None else f"{c['inertia']:.10g} kg m^2"
+        if c.get("relative") is not None:
+            near += f", torque residual {c['residual']:.2g} N m = {c['relative']:.3g} x round-off"
+        inertia = (f"not identified ({b['why'].removeprefix('not identified: ')}); closest {near}" if b.get("why") else
+                   f"none reproduces the torque (the forces found times their arms, r x F, for any "
+                   f"inertia); closest {near}")
     elif b.get("inertia") is not None and b["inertia"] < 0:
         inertia += " (negative: the torque turns the body the wrong way)"
-    why = f" ({b['why']})" if b.get("why") else ""
+    why = f" ({b['why']})" if b.get("why") and b.get("inertia") is not None else ""
     lines.append(f"  {'body':<11} mass {b['mass']:g} kg (the scene's: the unit of every force), inertia {inertia}"
                  f"{res}{why}{_match(result, 'body')}")
     where = b.get("contact_points_from") or (f"found where contact begins, to {b.get('points_residual', 0):.2g} m"

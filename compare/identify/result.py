@@ -109,6 +109,24 @@ def body_entry(law_s, fit: dict | None, found, missing: list[int], scene, turn=N
     return out
 
 
+def settle_body(out: dict, rests_on: tuple[str, ...]) -> None:
+    """The inertia is a finding only where it reproduces every torque (relative <= 1) and every
+    exercised effect whose force enters the torque (rests_on) is identified; otherwise
+    body.inertia is None and what was fitted moves under body.closest."""
+    b = out["body"]
+    if not b.get("rotates", True) or (b.get("inertia") is None and "closest" not in b):
+        return
+    failed = [e for e in rests_on if out.get(e, {}).get("exercised") and out[e].get("law") is None]
+    rel = b.get("relative")
+    if "closest" not in b and not failed and rel is not None and rel <= 1.0:
+        return
+    b.setdefault("closest", {"inertia": b["inertia"], "residual": b.get("residual"), "relative": rel})
+    b.update(inertia=None, residual=None, relative=None)
+    if failed and not b.get("why"):
+        b["why"] = (f"not identified: the {' and the '.join(failed)} fit{'s' if len(failed) == 1 else ''} no family, "
+                    "and {} force enters the torque".format("its" if len(failed) == 1 else "their"))
+
+
 def matches(out: dict, scene) -> dict:
     """Per effect: whether the scene's own law (its family and parameters) reproduces the step to
     round-off; None for an effect not exercised."""

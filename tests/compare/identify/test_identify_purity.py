@@ -84,3 +84,72 @@ def test_the_outsider_with_a_stick_slip_anchor_keeps_state(tmp_path):
     out = identify_step(sim, scene)
     assert out["keeps_state"] is True and out["from"] == "run"
     assert out["friction"]["law"] is None and "closest" in out["friction"]
+
+
+# -- item 4: null means null ---------------------------------------------------------------------
+
+def _sequential(step, scene, steps=None):
+    """The states of step's run from the scene's start (what --whole hands identify)."""
+    from compare.usersim import scene_dict
+    from custom_sim.model import initial_state
+    sd = scene_dict(scene)
+    z = initial_state(scene)
+    out = [z]
+    for _ in range(steps or scene.steps):
+        z = np.asarray(step(z.copy(), sd, scene.dt), dtype=float)
+        out.append(z)
+    return np.array(out)
+
+
+def _body_line(result):
+    from compare.identify.report import text
+    return next(line for line in text(result).splitlines() if line.lstrip().startswith("body"))
+
+
+def test_an_effect_the_run_never_exercises_has_law_null(tmp_path):
+    """point_drop dropped straight down: friction is listed, no step slides. Before: the law
+    fitted to zero force stayed ("tanh" with the scene's mu, "(not exercised ...)" after it)."""
+    from compare.identify import identify_run
+    from compare.identify.report import text
+    from test_identify import custom_step
+    path = short_scene(tmp_path, "point_drop", 0.3)
+    path.write_text(path.read_text().replace("velocity = [1.0, 0.0]", "velocity = [0.0, 0.0]"))
+    scene = load(str(path))
+    out = identify_run(_sequential(custom_step(scene), scene), scene)
+    f = out["friction"]
+    assert f["exercised"] is False and f["law"] is None and f.get("mu") is None and "closest" not in f
+    line = next(line for line in text(out).splitlines() if line.lstrip().startswith("friction"))
+    assert line.split() == ["friction", "not", "exercised:", "no", "step", "of", "the", "run", "has", "a",
+                            "friction", "force", "above", "its", "round-off"], line
+    assert out["matches_scene"]["friction"] is None
+
+
+def test_no_inertia_reproduces_the_torque_so_the_json_has_none(tmp_path):
+    """Designed probes, the friction's arm with the wrong sign: the text said "none reproduces"
+    while body.inertia held a number. Now null, the number under body.closest."""
+    from test_identify import Direct, numpy_step
+    out = identify_step(Direct(numpy_step("semi_implicit_euler", normal="linear", friction_arm=1.0)), load("box_drop"))
+    b = out["body"]
+    assert b["inertia"] is None and b["closest"]["inertia"] is not None and b["closest"]["relative"] > 1
+    line = _body_line(out)
+    assert "none reproduces the torque" in line and "negative" not in line, line
+
+
+def _two_speeds(fn, v):
+    """mu 0.3 + 0.2 s/m |v|: a coefficient that grows with the slip, of no family."""
+    return -(0.3 + 0.2 * abs(v)) * fn * float(np.tanh(100.0 * v))
+
+
+def test_an_inertia_resting_on_a_friction_of_no_family_is_no_finding(tmp_path):
+    """A whole run of box_slide whose friction fits no family: the torque carries r_y Ft, so the
+    inertia fitted beside the closest friction is none. Before: printed as a finding."""
+    from compare.identify import identify_run
+    from test_identify import numpy_step
+    scene = load(str(short_scene(tmp_path, "box_slide", 0.25)))
+    out = identify_run(_sequential(numpy_step("semi_implicit_euler", normal="linear", traction=_two_speeds), scene),
+                       scene)
+    assert out["friction"]["law"] is None
+    b = out["body"]
+    assert b["inertia"] is None and "inertia" in b["closest"]
+    line = _body_line(out)
+    assert "inertia not identified (the friction fits no family" in line and "negative" not in line, line
