@@ -13,8 +13,8 @@ round-off; otherwise the law is null and the closest family is given. With --who
 regression over the steps the run visited, to the rounding the file allows, saying which
 effects the run never exercised. SCENE: built-in names or .toml paths (default: every built-in).
 Exit status: 0 every exercised effect is the scene's own law; 1 one is not; 2 bad input (a
-module or function that does not load, a step that raises or returns no state). See
-docs/identify.md.
+module or function that does not load, a step that raises or returns no state: that scene's
+one line, with its name, and the other scenes identified). See docs/identify.md.
 """
 from __future__ import annotations
 
@@ -63,15 +63,22 @@ def main(args) -> int:
         _one_line(exc)
     scene_list = load_all(scenes)
     status = 0
+    failed = False
     for scene in scene_list:
         try:
             result = identify(simulator, scene)
-        except (UserCodeError, UserFault) as exc:
-            _one_line(exc)
+        except (UserCodeError, UserFault) as exc:   # this scene's: said once, with its scene; the others go on
+            failed = True
+            message = str(exc).removeprefix("--sim ")
+            if args.json:
+                print(as_json({"scene": scene.name, "error": message}), flush=True)
+            else:
+                print(f"error: {scene.name}: {message}", file=sys.stderr, flush=True)
+            continue
         if any(v is False for v in result["matches_scene"].values()):
             status = 1
         print(as_json(result) if args.json else text(result) + "\n", flush=True)
-    return status
+    return 2 if failed else status
 
 
 if __name__ == "__main__":   # not an entry point of its own: `python -m compare identify` is

@@ -10,7 +10,7 @@ from custom_sim import Scene
 from . import forward
 from .calls import StepCalls
 from .families import FAMILIES, Family, scene_family
-from .fit import Fit, choose, weights, worst
+from .fit import Fit, choose, rounded, weights, worst
 from .geometry import Geometry
 from .integrators import evaluated_at
 from .model import Law
@@ -38,12 +38,14 @@ def scene_law(scene: Scene, scene_d: dict, geometry: Geometry | None = None) -> 
 
 def _gravity(law: Law, F: Probes) -> tuple[float, float, float, float]:
     """(g m/s^2, largest residual m/s^2, relative, the scene's g relative) from the flight
-    steps: a = (0, -g, 0) to round-off."""
+    steps: a = (0, -g, 0) to round-off; g rounded to the digits the steps carry (fit.rounded)."""
     a = rates(F)
     M = inertias(law)
     b = rate_bound(law.with_(normal=None), "semi_implicit_euler", F.Z0, F.Z1, F.H) / M
     w = weights(b[:, 1])
     g = float(np.sum(-a[:, 1] * w) / np.sum(w))
+    r, rel = worst(a - np.array([0.0, -g, 0.0]), b)
+    (g,) = rounded((g,), (float(np.min(b[:, 1])),), lambda p: worst(a - np.array([0.0, -p[0], 0.0]), b)[1], rel)
     r, rel = worst(a - np.array([0.0, -g, 0.0]), b)
     return g, r, rel, worst(a - np.array([0.0, -law.g, 0.0]), b)[1]
 

@@ -45,6 +45,22 @@ def params_text(entry: dict, effect: str) -> str:
     return ", ".join(parts)
 
 
+def residual_text(residual, relative, unit: str, what: str = "residual") -> str:
+    """A residual in words: within round-off it is no number of newtons (a 6e-123 N is noise),
+    only its share of round-off; beyond, the number and how many times round-off; a
+    non-finite one (a force that overflows or is NaN at some probe) as such."""
+    if relative is None or residual is None or not (math.isfinite(relative) and math.isfinite(residual)):
+        return f"{what} not finite (a non-finite force at some probe)"
+    if relative <= 1.0:
+        return f"{what} {relative:.2g} of round-off"
+    return f"{what} {residual:.3g} {unit} = {relative:.3g} x round-off"
+
+
+def _num_text(v: float, resolution: float = 0.0) -> str:
+    """A coordinate: no -0, nothing below its resolution (m)."""
+    return f"{(0.0 if abs(v) <= resolution else v) + 0.0:.6g}"
+
+
 def _match(result: dict, key: str) -> str:
     m = result.get("matches_scene", {}).get(key)
     return "" if m is None else ("  = scene" if m else "  ≠ scene")
@@ -57,13 +73,13 @@ def _effect_line(result: dict, effect: str) -> str:
     unit = RESIDUAL_UNIT[effect]
     if e["law"] is not None:
         text = (f"{e['law']} ({params_text(e, effect)})" if params_text(e, effect) else e["law"])
-        text += f"; residual {e['residual']:.2g} {unit} = {e['relative']:.2g} of round-off"
+        text += f"; {residual_text(e['residual'], e['relative'], unit)}"
         if e.get("also_fit"):
             text += f"; equally: {', '.join(e['also_fit'])}"
     else:
         c = e.get("closest", {})
-        text = (f"no family fits; closest {c.get('law')} ({params_text(c, effect)}), residual "
-                f"{c.get('residual', float('nan')):.3g} {unit} = {c.get('relative', float('nan')):.3g} x round-off")
+        text = (f"no family fits; closest {c.get('law')} ({params_text(c, effect)}), "
+                f"{residual_text(c.get('residual'), c.get('relative'), unit)}")
     if not e.get("exercised", True):
         text += f" (not exercised: {e.get('why', '')})"
     elif e.get("why"):
@@ -84,37 +100,40 @@ def text(result: dict) -> str:
         lines.append(f"  {'integrator':<11} {it['name']} ({it.get('why', '')}){_match(result, 'integrator')}")
     else:
         c = it.get("closest", {})
+        rel = c.get("residual")
+        off = (f"{rel:.3g} x round-off" if rel is not None and math.isfinite(rel)
+               else "its test not finite")
         lines.append(f"  {'integrator':<11} none of the four ({it.get('why', '')}; closest {c.get('name')}, "
-                     f"{c.get('residual', float('nan')):.3g} x round-off){_match(result, 'integrator')}")
+                     f"{off}){_match(result, 'integrator')}")
     gr = result["gravity"]
     if gr.get("exercised") is False:
         lines.append(f"  {'gravity':<11} not exercised: {gr.get('why', '')}")
     elif gr["g"] is not None:
-        lines.append(f"  {'gravity':<11} g {gr['g']:.10g} m/s^2; residual {gr['residual']:.2g} m/s^2 = "
-                     f"{gr['relative']:.2g} of round-off{_match(result, 'gravity')}")
+        lines.append(f"  {'gravity':<11} g {gr['g']:.10g} m/s^2; {residual_text(gr['residual'], gr['relative'], 'm/s^2')}"
+                     f"{_match(result, 'gravity')}")
     else:
         c = gr.get("closest", {})
         lines.append(f"  {'gravity':<11} not a constant g (closest {_g(c.get('g'), 'm/s^2')}, "
-                     f"{c.get('relative', float('nan')):.3g} x round-off){_match(result, 'gravity')}")
+                     f"{residual_text(c.get('residual'), c.get('relative'), 'm/s^2')}){_match(result, 'gravity')}")
     for effect in ("normal", "friction", "rolling"):
         lines.append(_effect_line(result, effect))
     b = result["body"]
     pts = b.get("contact_points") or []
-    shown = "; ".join("–" if p is None else f"({p[0]:.6g}, {p[1]:.6g})" for p in pts)
+    unc = b.get("points_residual") or 0.0
+    shown = "; ".join("–" if p is None else f"({_num_text(p[0], unc)}, {_num_text(p[1], unc)})" for p in pts)
     inertia = "–" if b.get("inertia") is None else f"{b['inertia']:.10g} kg m^2"
-    res = "" if b.get("residual") is None else (f"; torque residual {b['residual']:.2g} N m = "
-                                                f"{b['relative']:.2g} of round-off")
+    res = "" if b.get("residual") is None else f"; {residual_text(b['residual'], b['relative'], 'N m', 'torque residual')}"
     if b.get("rotates") is False:   # a point: what is checked is that the step does not turn it
         inertia = "– (a point mass does not turn)"
-        res = "" if b.get("residual") is None else (f"; angular acceleration {b['residual']:.2g} rad/s^2 = "
-                                                    f"{b['relative']:.2g} of round-off")
+        res = "" if b.get("residual") is None else (
+            f"; {residual_text(b['residual'], b['relative'], 'rad/s^2', 'angular acceleration')}")
         if b.get("relative") is not None and b["relative"] > 1:
             inertia = "– (the step turns the point mass, which has nothing to turn it)"
     elif b.get("inertia") is None and b.get("closest"):   # the fitted inertia is only the closest
         c = b["closest"]
         near = "–" if c.get("inertia") is None else f"{c['inertia']:.10g} kg m^2"
         if c.get("relative") is not None:
-            near += f", torque residual {c['residual']:.2g} N m = {c['relative']:.3g} x round-off"
+            near += f", {residual_text(c['residual'], c['relative'], 'N m', 'torque residual')}"
         inertia = (f"not identified ({b['why'].removeprefix('not identified: ')}); closest {near}" if b.get("why") else
                    f"none reproduces the torque (the forces found times their arms, r x F, for any "
                    f"inertia); closest {near}")
@@ -123,8 +142,7 @@ def text(result: dict) -> str:
     why = f" ({b['why']})" if b.get("why") and b.get("inertia") is not None else ""
     lines.append(f"  {'body':<11} mass {b['mass']:g} kg (the scene's: the unit of every force), inertia {inertia}"
                  f"{res}{why}{_match(result, 'body')}")
-    where = b.get("contact_points_from") or (f"found where contact begins, to {b.get('points_residual', 0):.2g} m"
-                                             if pts else "")
+    where = b.get("contact_points_from") or (f"found where contact begins, to {unc:.2g} m" if pts else "")
     lines.append(f"  {'':<11} contact points {shown} m ({where})")
     if b.get("not_found"):
         lines.append(f"  {'':<11} never found touching: point {', '.join(map(str, b['not_found']))}")

@@ -23,8 +23,11 @@ def _num(x):
 
 
 def _params(effect: str, fit: Fit) -> dict:
+    """The family's parameters, rounded to what the probes resolve of them where that is known
+    (fit.extra["shown"]: the designed Euler fits, fit.rounded)."""
     out = dict(PARAMETERS[effect])
-    out.update({k: _num(v) for k, v in fit.named.items()})
+    shown = fit.extra.get("shown") or fit.params
+    out.update({k: _num(v) for k, v in zip(fit.family.params, shown)})
     return out
 
 
