@@ -95,8 +95,8 @@ def resolved(value: float, res: float | None, finer: int = 0) -> float:
     """value rounded to the decade of its resolution res (finer: that many decades below)."""
     if res is None or not np.isfinite(res) or res <= 0 or not np.isfinite(value):
         return value
-    unit = 10.0 ** (np.floor(np.log10(res)) - finer)
-    return float(np.round(value / unit) * unit) + 0.0
+    decimals = int(finer - np.floor(np.log10(res)))
+    return float(round(float(value), decimals)) + 0.0   # decimal rounding: 0.1, not 0.09999999999999999
 
 
 # Decades below a parameter's resolution tried before its fitted digits are kept whole.

@@ -7,7 +7,7 @@ import numpy as np
 
 from custom_sim import Scene
 
-from . import forward
+from . import forward, roundoff
 from .calls import StepCalls
 from .families import FAMILIES, Family, scene_family
 from .fit import Fit, choose, rounded, weights, worst
@@ -62,11 +62,20 @@ class StepIdentification:
         self.law_scene = scene_law(scene, self.sd, self.geometry_scene)
 
     def run(self) -> dict:
+        try:
+            return self._run()
+        finally:
+            roundoff.set_single_precision(False)
+
+    def _run(self) -> dict:
         start = time.perf_counter()
         scene, law_s = self.scene, self.law_scene
         out = {"scene": scene.name, "from": "step"}
         F = flight(self.geometry_scene, self.scales)
         F.Z1 = self.calls.many(F.Z0, F.H, "flight")
+        # float32 arithmetic behind float64 returns: every bound below in single precision
+        out["precision"] = "float32" if roundoff.is_float32(F.Z0, F.Z1) else "float64"
+        roundoff.set_single_precision(out["precision"] == "float32")
         g, g_res, g_rel, g_scene = _gravity(law_s, F)
         out["gravity"] = gravity_entry(g, g_res, g_rel, g_scene)
         g_use = g if g_rel <= 1.0 else law_s.g
@@ -227,8 +236,15 @@ class StepIdentification:
         roll = P.kind == "rolling"
         fams = FAMILIES["rolling"] if law.rolling is not None else (None,)
         fits, bodies = [], []
+        moving = np.abs(rows_all.alpha) > 0
+        # what the torques resolve of the inertia: the change that moves some row by its bound
+        i_res = float(np.min(rows_all.bound[moving] / np.abs(rows_all.alpha[moving]))) if moving.any() else None
         for fam in fams:
             resid, inertia, lx, p = fit_torque(rows_all, fam, law.inertia)
+            br, brel = worst(resid[~roll], rows_all.bound[~roll])
+            (inertia,) = rounded((inertia,), (i_res,), lambda q: worst(
+                self._torque_at(rows_all, fam, p, q[0], lx)[~roll], rows_all.bound[~roll])[1], brel)
+            resid = self._torque_at(rows_all, fam, p, inertia, lx)
             rr, rrel = worst(resid[roll], rows_all.bound[roll])
             br, brel = worst(resid[~roll], rows_all.bound[~roll])
             if fam is not None:

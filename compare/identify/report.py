@@ -27,8 +27,14 @@ def as_json(result: dict) -> str:
     return json.dumps(json_safe(result))
 
 
+# Significant digits a number is printed to: what float64 carries past a fit's round-off, and
+# what float32 resolves (24 bits: 7.2 digits) for a step computing in single precision.
+DIGITS = {"float64": 10, "float32": 7}
+_DIGITS = {"now": DIGITS["float64"]}
+
+
 def _g(x, unit: str = "") -> str:
-    return "–" if x is None else (f"{x:.10g} {unit}".rstrip())
+    return "–" if x is None else (f"{x:.{_DIGITS['now']}g} {unit}".rstrip())
 
 
 def params_text(entry: dict, effect: str) -> str:
@@ -89,10 +95,20 @@ def _effect_line(result: dict, effect: str) -> str:
 
 def text(result: dict) -> str:
     """A few lines per scene: each effect's family and parameters, or what came closest."""
+    _DIGITS["now"] = DIGITS.get(result.get("precision"), DIGITS["float64"])
+    try:
+        return _text(result)
+    finally:
+        _DIGITS["now"] = DIGITS["float64"]
+
+
+def _text(result: dict) -> str:
     src = {"step": f"{result.get('calls', 0)} designed calls", "whole": f"{result.get('steps', 0)} steps of its run",
            "trajectories": f"{result.get('steps', 0)} steps of its CSV",
            "run": f"{result.get('steps', 0)} steps of its sequential run"}.get(result.get("from"), "")
-    lines = [f"{result['scene']}  ({src}, {result.get('seconds', 0.0):.2f} s)"]
+    single = "; float32 arithmetic: every number it returns is a float32 value, held to single precision's " \
+             "round-off" if result.get("precision") == "float32" else ""
+    lines = [f"{result['scene']}  ({src}, {result.get('seconds', 0.0):.2f} s{single})"]
     if result.get("keeps_state"):
         lines.append(f"  {'keeps state':<11} {result.get('keeps_state_why', '')}")
     it = result["integrator"]
@@ -109,7 +125,7 @@ def text(result: dict) -> str:
     if gr.get("exercised") is False:
         lines.append(f"  {'gravity':<11} not exercised: {gr.get('why', '')}")
     elif gr["g"] is not None:
-        lines.append(f"  {'gravity':<11} g {gr['g']:.10g} m/s^2; {residual_text(gr['residual'], gr['relative'], 'm/s^2')}"
+        lines.append(f"  {'gravity':<11} g {_g(gr['g'], 'm/s^2')}; {residual_text(gr['residual'], gr['relative'], 'm/s^2')}"
                      f"{_match(result, 'gravity')}")
     else:
         c = gr.get("closest", {})
@@ -121,7 +137,7 @@ def text(result: dict) -> str:
     pts = b.get("contact_points") or []
     unc = b.get("points_residual") or 0.0
     shown = "; ".join("–" if p is None else f"({_num_text(p[0], unc)}, {_num_text(p[1], unc)})" for p in pts)
-    inertia = "–" if b.get("inertia") is None else f"{b['inertia']:.10g} kg m^2"
+    inertia = "–" if b.get("inertia") is None else _g(b["inertia"], "kg m^2")
     res = "" if b.get("residual") is None else f"; {residual_text(b['residual'], b['relative'], 'N m', 'torque residual')}"
     if b.get("rotates") is False:   # a point: what is checked is that the step does not turn it
         inertia = "– (a point mass does not turn)"
@@ -131,7 +147,7 @@ def text(result: dict) -> str:
             inertia = "– (the step turns the point mass, which has nothing to turn it)"
     elif b.get("inertia") is None and b.get("closest"):   # the fitted inertia is only the closest
         c = b["closest"]
-        near = "–" if c.get("inertia") is None else f"{c['inertia']:.10g} kg m^2"
+        near = _g(c.get("inertia"), "kg m^2")
         if c.get("relative") is not None:
             near += f", {residual_text(c['residual'], c['relative'], 'N m', 'torque residual')}"
         inertia = (f"not identified ({b['why'].removeprefix('not identified: ')}); closest {near}" if b.get("why") else

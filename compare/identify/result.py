@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from .fit import Fit
+from .fit import Fit, resolved
 
 # Each effect's parameters in the answer, and the value one its family does not take holds
 # (as in the scene's [contact]: c 0 under hunt_crossley, dissipation 0 otherwise, alpha and
@@ -86,7 +86,8 @@ def body_entry(law_s, fit: dict | None, found, missing: list[int], scene, turn=N
             lx = fit["lx"]
         if lx is None:
             lx = float(law_s.geometry.points[f.index, 0])
-        pts[f.index] = [float(lx), float(ly)]
+        unc = np.where(np.isfinite(f.uncertainty), f.uncertainty, 0.0)   # digits below it are not the point's
+        pts[f.index] = [resolved(float(lx), float(unc[0]) or None), resolved(float(ly), float(unc[1]) or None)]
         worst_m, worst_rel = max(worst_m, f.residual), max(worst_rel, f.relative)
         unc = f.uncertainty
         want = law_s.geometry.points[f.index]

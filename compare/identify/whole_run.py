@@ -7,7 +7,7 @@ import numpy as np
 
 from custom_sim import Scene
 
-from . import forward
+from . import forward, roundoff
 from .families import FAMILIES
 from .fit import Fit, choose, weights, worst
 from .from_step import EFFECT_OF, scene_law
@@ -51,10 +51,19 @@ class RunIdentification:
         self._base = {}
 
     def run(self) -> dict:
+        try:
+            return self._run()
+        finally:
+            roundoff.set_single_precision(False)
+
+    def _run(self) -> dict:
         start = time.perf_counter()
         scene, law_s = self.scene, self.law_s
         Z0, Z1, H = self.Z0, self.Z1, self.H
         out = {"scene": scene.name, "from": self.source, "steps": len(Z0)}
+        # float32 arithmetic behind float64 numbers: every bound below in single precision
+        out["precision"] = "float32" if roundoff.is_float32(Z0, Z1) else "float64"
+        roundoff.set_single_precision(out["precision"] == "float32")
         flight = self._flight()
         out["flight_steps"] = int(flight.sum())
         # gravity from the flight steps

@@ -214,3 +214,36 @@ def test_a_scene_whose_step_raises_is_one_line_with_its_scene_and_the_others_go_
     rows = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
     assert rows[0]["scene"] == "box_drop" and "boxes are not supported" in rows[0]["error"]
     assert rows[1]["scene"] == "point_drop" and rows[1]["normal"]["law"] == "compression"
+
+
+# -- item 8: float32 arithmetic -------------------------------------------------------------------
+
+def test_a_float32_step_is_named_and_held_to_single_precision(capsys):
+    """tests/outsiders/f32_kernel.py computes the scene's law in float32 and returns float64.
+    Before: "gravity not a constant g (closest 9.810000191 m/s^2 ...)", every effect null. Now:
+    float32 named, the scene's law found (its parameters to the digits float32 resolves)."""
+    assert main(["identify", f"{OUTSIDERS}/f32_kernel.py:step", "box_drop", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["precision"] == "float32" and out["gravity"]["g"] == 9.81
+    assert (out["normal"]["law"], out["normal"]["k"], out["normal"]["c"]) == ("linear", 1e4, 20.0)
+    assert (out["friction"]["law"], out["friction"]["mu"], out["friction"]["alpha"]) == ("tanh", 0.5, 100.0)
+    # m (w^2 + h^2) / 12 of the 0.2 x 0.1 m, 2 kg box, to what the torque probes resolve in
+    # float32: a change of 4e-5 of it moves a probe's torque by its round-off, and the JSON is
+    # rounded there (0.008333)
+    assert abs(out["body"]["inertia"] - 2.0 * (0.2 ** 2 + 0.1 ** 2) / 12.0) <= 1e-4 * out["body"]["inertia"]
+    assert all(v is not False for v in out["matches_scene"].values())
+    assert main(["identify", f"{OUTSIDERS}/f32_kernel.py:step", "box_drop"]) == 0
+    assert "float32 arithmetic" in capsys.readouterr().out.splitlines()[0]
+
+
+def test_a_float64_step_is_not_float32(capsys):
+    assert main(["identify", "examples/seed_sim.py:step", "point_drop", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["precision"] == "float64"
+
+
+def test_a_float32_whole_run_is_held_to_single_precision(tmp_path, capsys):
+    scene = short_scene(tmp_path, "point_drop", 0.4)
+    assert main(["identify", f"{OUTSIDERS}/f32_kernel.py:simulate", str(scene), "--whole", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["precision"] == "float32" and out["normal"]["law"] == "compression"
+    assert out["friction"]["law"] == "tanh"
