@@ -67,8 +67,7 @@ def one_line(exc: BaseException) -> str:
 
 
 def raised(where: str, exc: BaseException, expected: str) -> UserCodeError:
-    """`where` raised exc: one line naming it and the exception, the shortened traceback.
-    `expected` (what the call was to return) is not appended: the code never got to return."""
-    return UserCodeError(f"{where} raised {one_line(exc)}", user_traceback(exc))
+    """`where` raised exc: one line naming it and the exception, the shortened traceback."""
+    return UserCodeError(f"{where} raised {one_line(exc)} (expected {expected})", user_traceback(exc))
 
 
