@@ -15,8 +15,8 @@ effects the run never exercised. SCENE: built-in names or .toml paths (default: 
 A scene the simulator does not do (its module's SHAPES, a step raising NotImplementedError) is
 a line `SCENE  skipped  REASON` ({"scene", "skipped"} with --json). Exit status: 0 every
 exercised effect is the scene's own law; 1 one is not, or every scene was skipped; 2 bad input
-(a module or function that does not load, a step that raises or returns no state, named with
-its scene). See docs/identify.md.
+(a module or function that does not load, a step that raises or returns no state: that scene's
+one line, with its name, and the other scenes identified). See docs/identify.md.
 """
 from __future__ import annotations
 
@@ -64,7 +64,7 @@ def main(args) -> int:
     except UserCodeError as exc:
         _one_line(exc)
     scene_list = load_all(scenes)
-    status, skipped = 0, 0
+    status, skipped, failed = 0, 0, False
     for scene in scene_list:
         try:
             result = identify(simulator, scene)
@@ -73,11 +73,19 @@ def main(args) -> int:
             print(as_json({"scene": scene.name, "skipped": exc.reason}) if args.json
                   else f"{scene.name}  skipped  {exc.reason}\n", flush=True)
             continue
-        except (UserCodeError, UserFault) as exc:
-            _one_line(exc, scene.name)
+        except (UserCodeError, UserFault) as exc:   # this scene's: said once, with its scene; the others go on
+            failed = True
+            message = str(exc).removeprefix("--sim ")
+            if args.json:
+                print(as_json({"scene": scene.name, "error": message}), flush=True)
+            else:
+                print(f"error: {scene.name}: {message}", file=sys.stderr, flush=True)
+            continue
         if any(v is False for v in result["matches_scene"].values()):
             status = 1
         print(as_json(result) if args.json else text(result) + "\n", flush=True)
+    if failed:
+        return 2
     return 1 if skipped == len(scene_list) else status
 
 

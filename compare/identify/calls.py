@@ -57,7 +57,7 @@ class StepCalls:
             except NotImplementedError as exc:   # the step does not do this scene: skipped
                 raise not_implemented(exc) from None
             except Exception as exc:  # noqa: BLE001 - any fault of the user's step is bad input here
-                raise UserCodeError(f"{where} raised {one_line(exc)} (expected a state {STATE})") from None
+                raise UserCodeError(f"{where} raised {one_line(exc)}") from None
         z1, _ = as_state(out, where)
         if not np.all(np.isfinite(z1)):
             raise UserCodeError(f"{where} returned a non-finite state {_state_text(z1)} (expected 6 finite numbers "
