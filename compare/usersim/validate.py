@@ -24,7 +24,7 @@ def _cell(row) -> str:
 
 
 def validate(spec: str | None, scenes: list[str], whole: bool = False, trajectories: str | None = None,
-             markdown: bool = False) -> int:
+             markdown: bool = False, process: str | None = None) -> int:
     """Hold spec (MODULE:FUNCTION, or None with trajectories) to the checks on the scenes: one line
     per scene (with markdown, its diagnosis in full); the exit status."""
     from ..scenarios import load_all
@@ -35,9 +35,9 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
 
     from . import UserFault, preflight
 
-    sim = load_simulator(spec, whole, trajectories)
+    sim = load_simulator(spec, whole, trajectories, process)
     if sim is None:
-        raise SystemExit("expected MODULE:FUNCTION or --trajectories DIR")
+        raise SystemExit("expected MODULE:FUNCTION, --trajectories DIR or --sim-process COMMAND")
     scenes = load_all(scenes)
     preflight(sim, scenes)
     ok, judged = True, 0

@@ -1,0 +1,336 @@
+"""A simulator in any language as a step function: a process spoken to one line each way (protocol 1).
+
+    --sim-process "COMMAND"      Process(COMMAND)      docs/process-protocol.md
+
+    harness -> process:  scene {JSON of the scene, as `scene --json` prints it, on one line}
+    process -> harness:  ready INTEGRATOR     (a name the harness knows, "other:NAME", or "scene")
+                     or  skip REASON          (a scene this code does not do)
+    harness -> process:  step DT X Y THETA VX VY OMEGA
+    process -> harness:  X Y THETA VX VY OMEGA
+    ... (another `scene` line may follow; at the end the harness closes stdin and the process exits)
+
+Numbers travel as Python's repr of a float (the shortest text that reads back to the same
+double, at most 17 significant digits), so a state crosses the pipe exactly.
+
+Process is a StepFunction: the harness's run loop, its checks, identify's designed probes, the
+diagnosis's probes and the purity test call `function(state, scene, dt)` as they call a Python
+step. `fresh()` ends the process (the next call starts a new one, as a Python module is
+imported again); a scene the process has not been told sends a `scene` line first. A process
+that dies, hangs (REPLY_TIMEOUT), prints anything but the answer or answers the wrong count is
+a ProcessFault (that scene's error row) naming the request and what came back; the process is
+ended (its process group killed) whenever it fails and at the end of every run.
+"""
+from __future__ import annotations
+
+import json
+import os
+import select
+import shlex
+import shutil
+import signal
+import subprocess
+import tempfile
+import time
+import weakref
+
+import numpy as np
+
+from custom_sim import Scene
+
+from .base import declared_integrator
+from .errors import UserCodeError, UserFault
+from .functions import StepFunction
+from .scene_dict import scene_dict
+
+PROTOCOL = 1
+# A reply must come within this many seconds of its request (s); the first reply of a process,
+# its `ready`, within START_TIMEOUT (an interpreter or a JIT loading before it reads a line).
+REPLY_TIMEOUT = 10.0
+START_TIMEOUT = 30.0
+# After stdin is closed a process has this long to exit before it is killed (s).
+EXIT_GRACE = 1.0
+# What is quoted of a line that came back, at most (characters).
+QUOTE = 120
+ANSWER = "6 numbers X Y THETA VX VY OMEGA"
+
+
+class ProcessFault(UserFault):
+    """The process died, hung, printed something else or answered the wrong count: one line."""
+
+
+def _quote(data: bytes) -> str:
+    text = data.decode("utf-8", "replace").rstrip("\r")
+    return repr(text if len(text) <= QUOTE else text[:QUOTE] + "...")
+
+
+def _argv(command: str) -> list[str]:
+    """The command's words, its program found (bad input, one line, where it cannot be)."""
+    where = f"--sim-process {command!r}"
+    try:
+        argv = shlex.split(command)
+    except ValueError as exc:
+        raise UserCodeError(f"{where}: cannot read the command ({exc}); expected a command line, "
+                            "e.g. \"./step\" or \"node step.js\"") from None
+    if not argv:
+        raise UserCodeError(f"{where}: empty command (expected the command that starts your simulator, "
+                            "e.g. \"./step\" or \"node step.js\")")
+    program = argv[0]
+    if os.sep in program or (os.altsep and os.altsep in program):
+        if not os.path.isfile(program):
+            raise UserCodeError(f"{where}: cannot start {program}: no such file (expected a program to run)")
+        if not os.access(program, os.X_OK):
+            raise UserCodeError(f"{where}: cannot start {program}: not executable (chmod +x {program}?)")
+    elif shutil.which(program) is None:
+        raise UserCodeError(f"{where}: cannot start {program}: no such program on PATH "
+                            f"(a file in this folder is ./{program})")
+    return argv
+
+
+class _Pipe:
+    """One running process: a request written, its reply line read, within a timeout."""
+
+    def __init__(self, argv: list[str], where: str):
+        self.stderr = tempfile.TemporaryFile()
+        try:
+            self.proc = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self.stderr,
+                                         bufsize=0, start_new_session=True)
+        except OSError as exc:
+            self.stderr.close()
+            raise UserCodeError(f"{where}: cannot start {argv[0]}: {exc.strerror or exc}") from None
+        self.fd_in, self.fd_out = self.proc.stdin.fileno(), self.proc.stdout.fileno()
+        self.poller = select.poll()
+        self.poller.register(self.fd_out, select.POLLIN)
+        self.buffer = bytearray()
+
+    def ask(self, line: bytes, timeout: float) -> bytes:
+        """The reply line (without its newline) to `line`; raises EOFError when the process has
+        closed its output (it exited), TimeoutError when no whole line came in time."""
+        try:
+            os.write(self.fd_in, line)
+        except (BrokenPipeError, ConnectionResetError):
+            raise EOFError from None
+        return self.reply(timeout)
+
+    def reply(self, timeout: float) -> bytes:
+        buffer = self.buffer
+        deadline = None
+        while True:
+            end = buffer.find(b"\n")
+            if end >= 0:
+                line = bytes(buffer[:end])
+                del buffer[:end + 1]
+                return line
+            if deadline is None:
+                deadline = time.monotonic() + timeout
+            left = deadline - time.monotonic()
+            if left <= 0 or not self.poller.poll(max(1, int(left * 1000))):
+                raise TimeoutError
+            chunk = os.read(self.fd_out, 65536)
+            if not chunk:
+                raise EOFError
+            buffer += chunk
+
+    def exit_text(self) -> str:
+        """How the process ended (it has, or is made to within EXIT_GRACE), and its last line on stderr."""
+        try:
+            code = self.proc.wait(EXIT_GRACE)
+        except subprocess.TimeoutExpired:
+            self.kill()
+            return "it closed its output but did not exit (it was killed)"
+        if code < 0:
+            try:
+                name = signal.Signals(-code).name
+            except ValueError:
+                name = f"signal {-code}"
+            how = f"it was killed by {name}"
+        else:
+            how = f"it exited with status {code}"
+        self.stderr.seek(0)
+        lines = [line for line in self.stderr.read()[-4096:].splitlines() if line.strip()]
+        return how + (f"; its last line on stderr: {_quote(lines[-1])}" if lines else "")
+
+    def kill(self) -> None:
+        """End the process and every process it started (its session), and reap it."""
+        if self.proc.poll() is None:
+            try:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                self.proc.kill()
+        self.proc.wait()
+
+    def close(self) -> None:
+        """Close stdin (the end of the session), give the process EXIT_GRACE to exit, else kill it."""
+        for stream in (self.proc.stdin, self.proc.stdout):
+            try:
+                stream.close()
+            except OSError:
+                pass
+        try:
+            self.proc.wait(EXIT_GRACE)
+        except subprocess.TimeoutExpired:
+            pass
+        self.kill()
+        self.stderr.close()
+
+
+def _end(pipe_holder: list) -> None:
+    """weakref.finalize's hook: a Process dropped (or the interpreter leaving) ends its process."""
+    if pipe_holder and pipe_holder[0] is not None:
+        pipe_holder[0].close()
+        pipe_holder[0] = None
+
+
+class Process(StepFunction):
+    """COMMAND run as a step function speaking protocol 1 on stdin/stdout (see the module)."""
+
+    kind = "step"
+    signature = "a process answering `step DT X Y THETA VX VY OMEGA` with 6 numbers (docs/process-protocol.md)"
+
+    def __init__(self, command: str, timeout: float = REPLY_TIMEOUT, start_timeout: float = START_TIMEOUT):
+        self.command = self.spec = self.label = command
+        self.timeout, self.start_timeout = float(timeout), float(start_timeout)
+        self.where = f"--sim-process {command!r}"
+        self.argv = _argv(command)
+        self._holder = [None]                 # the running _Pipe (a list: the finalizer holds it, not self)
+        self._finalizer = weakref.finalize(self, _end, self._holder)
+        self._answers = {}                    # scene JSON -> ("ready", integrator) | ("skip", reason) | ("fault", text)
+        self._told = None                     # the scene JSON the running process was told last
+        self._told_dict = None                # ... and the dict it came from (compared by identity first)
+        self._steps = 0                       # step requests since that scene line
+        self.function = self._step
+
+    def __reduce__(self):  # another process starts its own
+        return (type(self), (self.command, self.timeout, self.start_timeout))
+
+    def fresh(self) -> None:
+        """End the running process: the next call starts a new one (a fresh state, as a Python
+        module imported again)."""
+        self.close()
+
+    def close(self) -> None:
+        """Close stdin, let the process exit (or kill it)."""
+        _end(self._holder)
+        self._told = self._told_dict = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def _run(self, scene: Scene):
+        try:
+            return super()._run(scene)
+        finally:
+            self.close()
+
+    # -- the protocol --------------------------------------------------------------------------
+
+    def _pipe(self):
+        pipe = self._holder[0]
+        if pipe is None:
+            pipe = self._holder[0] = _Pipe(self.argv, self.where)
+            self._told = self._told_dict = None
+        return pipe
+
+    def _fault(self, request: str, context: str, problem: str) -> ProcessFault:
+        """The process is ended; the one line naming the request and what came back."""
+        self.close()
+        return ProcessFault(f"{self.where}: request `{request}`{context}: {problem}")
+
+    def _exchange(self, request: str, context: str, timeout: float) -> bytes:
+        pipe = self._pipe()
+        try:
+            return pipe.ask(request.encode() + b"\n", timeout)
+        except EOFError:
+            text = pipe.exit_text()
+            raise self._fault(_short(request), context, f"no answer, the process ended ({text})") from None
+        except TimeoutError:
+            pipe.kill()
+            raise self._fault(_short(request), context,
+                              f"no answer within {timeout:g} s (the process was killed)") from None
+
+    def _tell(self, sd: dict, text: str) -> tuple:
+        """Send the scene line; the answer ("ready", integrator) or ("skip", reason). A misnamed
+        integrator is bad input (as a Python module's INTEGRATOR); a fault is a ProcessFault."""
+        context = f" (scene {sd.get('name', '?')})"
+        started = self._holder[0] is not None
+        line = self._exchange(f"scene {text}", context, self.timeout if started else self.start_timeout)
+        word, _, rest = line.decode("utf-8", "replace").strip().partition(" ")
+        rest = rest.strip()
+        if word == "ready" and rest:
+            answer = ("ready", rest)
+        elif word == "skip":
+            answer = ("skip", rest or "no reason given")
+        else:
+            raise self._fault("scene {...}", context,
+                              f"answered {_quote(line)} (expected `ready INTEGRATOR` or `skip REASON`)")
+        self._answers[text] = answer
+        self._told, self._told_dict, self._steps = text, sd, 0
+        if answer[0] == "ready" and answer[1] != "scene":
+            declared_integrator(answer[1], f"{self.where}: ready", _Named(sd))
+        return answer
+
+    def _step(self, state, sd: dict, dt: float) -> list:
+        """One step request; the 6 numbers answered (a list of floats)."""
+        if sd is not self._told_dict or self._holder[0] is None:
+            text = json.dumps(sd, separators=(",", ":"))
+            if text != self._told or self._holder[0] is None:
+                self._tell(sd, text)
+            self._told_dict = sd
+        answer = self._answers[self._told]
+        if answer[0] == "skip":
+            raise NotImplementedError(answer[1])
+        self._steps += 1
+        z = state.tolist() if state.__class__ is np.ndarray else [float(v) for v in state]
+        request = "step " + " ".join(map(repr, [float(dt), *z]))
+        context = f" (step {self._steps} of scene {sd.get('name', '?')})"
+        line = self._exchange(request, context, self.timeout)
+        words = line.split()
+        if len(words) == 6:
+            try:
+                return [float(w) for w in words]
+            except ValueError:
+                pass
+            problem = f"answered {_quote(line)}"
+        elif not words:
+            problem = "answered an empty line"
+        elif all(_number(w) for w in words):
+            problem = f"answered {len(words)} number{'s' if len(words) != 1 else ''} {_quote(line)}"
+        else:
+            problem = f"answered {_quote(line)}"
+        raise self._fault(request, context, f"{problem} (expected {ANSWER})")
+
+    def integrator_for(self, scene: Scene) -> str:
+        """The integrator the process names in its `ready` for this scene (the scene's for
+        "scene", or for a scene it skips or fails on: its run then says so)."""
+        sd = scene_dict(scene)
+        text = json.dumps(sd, separators=(",", ":"))
+        answer = self._answers.get(text)
+        if answer is None:
+            try:
+                answer = self._tell(sd, text)
+            except ProcessFault as exc:
+                answer = ("fault", str(exc))
+        if answer[0] == "ready" and answer[1] != "scene":
+            return declared_integrator(answer[1], f"{self.where}: ready", scene)
+        return scene.integrator
+
+
+class _Named:
+    """What declared_integrator reads of a scene (its integrator), from a scene dict."""
+
+    def __init__(self, sd: dict):
+        self.integrator = sd.get("integrator")
+
+
+def _number(word: bytes) -> bool:
+    try:
+        float(word)
+    except ValueError:
+        return False
+    return True
+
+
+def _short(request: str) -> str:
+    return request if not request.startswith("scene ") else "scene {...}"
