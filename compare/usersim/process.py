@@ -52,6 +52,8 @@ EXIT_GRACE = 1.0
 # What is quoted of a line that came back, at most (characters).
 QUOTE = 120
 ANSWER = "6 numbers X Y THETA VX VY OMEGA"
+# A step request: %r of a float is its repr, the shortest text that reads back to the same double.
+_REQUEST = "step %r %r %r %r %r %r %r\n"
 
 
 class ProcessFault(UserFault):
@@ -93,7 +95,7 @@ class _Pipe:
         self.stderr = tempfile.TemporaryFile()
         try:
             self.proc = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self.stderr,
-                                         bufsize=0, start_new_session=True)
+                                         bufsize=0, process_group=0)
         except OSError as exc:
             self.stderr.close()
             raise UserCodeError(f"{where}: cannot start {argv[0]}: {exc.strerror or exc}") from None
@@ -197,7 +199,13 @@ class Process(StepFunction):
         self._told = None                     # the scene JSON the running process was told last
         self._told_dict = None                # ... and the dict it came from (compared by identity first)
         self._steps = 0                       # step requests since that scene line
-        self.function = self._step
+        self._skip = None                     # the reason, when the process skips the scene it was told
+
+    @property
+    def function(self):
+        """step(state, scene, dt) -> state, as the harness calls a Python step (a property, not an
+        attribute: a bound method kept on self would keep self alive past its last use)."""
+        return self._step
 
     def __reduce__(self):  # another process starts its own
         return (type(self), (self.command, self.timeout, self.start_timeout))
@@ -210,7 +218,7 @@ class Process(StepFunction):
     def close(self) -> None:
         """Close stdin, let the process exit (or kill it)."""
         _end(self._holder)
-        self._told = self._told_dict = None
+        self._told = self._told_dict = self._skip = None
 
     def __enter__(self):
         return self
@@ -242,13 +250,15 @@ class Process(StepFunction):
         pipe = self._pipe()
         try:
             return pipe.ask(request.encode() + b"\n", timeout)
-        except EOFError:
-            text = pipe.exit_text()
-            raise self._fault(_short(request), context, f"no answer, the process ended ({text})") from None
-        except TimeoutError:
-            pipe.kill()
-            raise self._fault(_short(request), context,
-                              f"no answer within {timeout:g} s (the process was killed)") from None
+        except (EOFError, TimeoutError) as exc:
+            raise self._lost(pipe, exc, request, context, timeout) from None
+
+    def _lost(self, pipe, exc, request: str, context: str, timeout: float) -> ProcessFault:
+        """The fault for a request that got no answer (the process ended, or it timed out)."""
+        if isinstance(exc, EOFError):
+            return self._fault(_short(request), context, f"no answer, the process ended ({pipe.exit_text()})")
+        pipe.kill()
+        return self._fault(_short(request), context, f"no answer within {timeout:g} s (the process was killed)")
 
     def _tell(self, sd: dict, text: str) -> tuple:
         """Send the scene line; the answer ("ready", integrator) or ("skip", reason). A misnamed
@@ -267,25 +277,29 @@ class Process(StepFunction):
                               f"answered {_quote(line)} (expected `ready INTEGRATOR` or `skip REASON`)")
         self._answers[text] = answer
         self._told, self._told_dict, self._steps = text, sd, 0
+        self._skip = answer[1] if answer[0] == "skip" else None
         if answer[0] == "ready" and answer[1] != "scene":
             declared_integrator(answer[1], f"{self.where}: ready", _Named(sd))
         return answer
 
     def _step(self, state, sd: dict, dt: float) -> list:
-        """One step request; the 6 numbers answered (a list of floats)."""
-        if sd is not self._told_dict or self._holder[0] is None:
+        """One step request; the 6 numbers answered (a list of floats). The hot path: one write,
+        one poll, one read."""
+        pipe = self._holder[0]
+        if sd is not self._told_dict or pipe is None:
             text = json.dumps(sd, separators=(",", ":"))
-            if text != self._told or self._holder[0] is None:
+            if text != self._told or pipe is None:
                 self._tell(sd, text)
-            self._told_dict = sd
-        answer = self._answers[self._told]
-        if answer[0] == "skip":
-            raise NotImplementedError(answer[1])
+            self._told_dict, pipe = sd, self._holder[0]
+        if self._skip is not None:
+            raise NotImplementedError(self._skip)
         self._steps += 1
         z = state.tolist() if state.__class__ is np.ndarray else [float(v) for v in state]
-        request = "step " + " ".join(map(repr, [float(dt), *z]))
-        context = f" (step {self._steps} of scene {sd.get('name', '?')})"
-        line = self._exchange(request, context, self.timeout)
+        request = _REQUEST % (dt, *z)
+        try:
+            line = pipe.ask(request.encode(), self.timeout)
+        except (EOFError, TimeoutError) as exc:
+            raise self._lost(pipe, exc, request[:-1], self._context(sd), self.timeout) from None
         words = line.split()
         if len(words) == 6:
             try:
@@ -299,7 +313,10 @@ class Process(StepFunction):
             problem = f"answered {len(words)} number{'s' if len(words) != 1 else ''} {_quote(line)}"
         else:
             problem = f"answered {_quote(line)}"
-        raise self._fault(request, context, f"{problem} (expected {ANSWER})")
+        raise self._fault(request[:-1], self._context(sd), f"{problem} (expected {ANSWER})")
+
+    def _context(self, sd: dict) -> str:
+        return f" (step {self._steps} of scene {sd.get('name', '?')})"
 
     def integrator_for(self, scene: Scene) -> str:
         """The integrator the process names in its `ready` for this scene (the scene's for
