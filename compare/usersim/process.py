@@ -111,6 +111,15 @@ class _Pipe:
             os.write(self.fd_in, line)
         except (BrokenPipeError, ConnectionResetError):
             raise EOFError from None
+        if not self.buffer:                  # the usual case: one whole line, read at once
+            if not self.poller.poll(max(1, int(timeout * 1000))):
+                raise TimeoutError
+            chunk = os.read(self.fd_out, 65536)
+            if chunk.find(b"\n") == len(chunk) - 1 and chunk:
+                return chunk[:-1]
+            if not chunk:
+                raise EOFError
+            self.buffer += chunk
         return self.reply(timeout)
 
     def reply(self, timeout: float) -> bytes:
