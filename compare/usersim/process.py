@@ -238,6 +238,9 @@ class Process(StepFunction):
     def _run(self, scene: Scene):
         try:
             return super()._run(scene)
+        except UserFault as exc:   # no frame of a process is Python: the traceback would be the harness's
+            exc.details = ""
+            raise
         finally:
             self.close()
 
