@@ -103,6 +103,7 @@ class _Pipe:
         self.poller = select.poll()
         self.poller.register(self.fd_out, select.POLLIN)
         self.buffer = bytearray()
+        self.owner = os.getpid()             # a forked copy of the harness (run's scenes) must not use it
 
     def ask(self, line: bytes, timeout: float) -> bytes:
         """The reply line (without its newline) to `line`; raises EOFError when the process has
@@ -161,21 +162,24 @@ class _Pipe:
         return how + (f"; its last line on stderr: {_quote(lines[-1])}" if lines else "")
 
     def kill(self) -> None:
-        """End the process and every process it started (its session), and reap it."""
-        if self.proc.poll() is None:
-            try:
-                os.killpg(self.proc.pid, signal.SIGKILL)
-            except (ProcessLookupError, PermissionError):
-                self.proc.kill()
+        """End the process and every process it started (its process group), and reap it."""
+        try:
+            os.killpg(self.proc.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
         self.proc.wait()
 
     def close(self) -> None:
-        """Close stdin (the end of the session), give the process EXIT_GRACE to exit, else kill it."""
+        """Close stdin (the end of the session), give the process EXIT_GRACE to exit, else kill it.
+        In a forked copy of the harness only its copies of the pipes are closed: the process is
+        the parent's."""
         for stream in (self.proc.stdin, self.proc.stdout):
             try:
                 stream.close()
             except OSError:
                 pass
+        if self.owner != os.getpid():
+            return
         try:
             self.proc.wait(EXIT_GRACE)
         except subprocess.TimeoutExpired:
@@ -191,6 +195,19 @@ def _end(pipe_holder: list) -> None:
         pipe_holder[0] = None
 
 
+_LIVE = weakref.WeakSet()   # every Process of this interpreter
+
+
+def _forked() -> None:
+    """In a fork of the harness (run forks one per scene): each Process forgets the parent's
+    process (its copies of the pipes closed), so the next call starts its own."""
+    for sim in list(_LIVE):
+        sim.close()
+
+
+os.register_at_fork(after_in_child=_forked)
+
+
 class Process(StepFunction):
     """COMMAND run as a step function speaking protocol 1 on stdin/stdout (see the module)."""
 
@@ -204,11 +221,12 @@ class Process(StepFunction):
         self.argv = _argv(command)
         self._holder = [None]                 # the running _Pipe (a list: the finalizer holds it, not self)
         self._finalizer = weakref.finalize(self, _end, self._holder)
-        self._answers = {}                    # scene JSON -> ("ready", integrator) | ("skip", reason) | ("fault", text)
+        self._answers = {}                    # scene JSON -> ("ready", integrator) | ("skip", reason)
         self._told = None                     # the scene JSON the running process was told last
         self._told_dict = None                # ... and the dict it came from (compared by identity first)
         self._steps = 0                       # step requests since that scene line
         self._skip = None                     # the reason, when the process skips the scene it was told
+        _LIVE.add(self)
 
     @property
     def function(self):
@@ -244,10 +262,21 @@ class Process(StepFunction):
         finally:
             self.close()
 
+    def diagnose(self, *args, **kwargs) -> dict:
+        """The diagnosis (its probes continue the process the purity test started), then the
+        process is ended: nothing is left running once a scene is judged."""
+        try:
+            return super().diagnose(*args, **kwargs)
+        finally:
+            self.close()
+
     # -- the protocol --------------------------------------------------------------------------
 
     def _pipe(self):
         pipe = self._holder[0]
+        if pipe is not None and pipe.owner != os.getpid():   # inherited by a fork: the parent's to end
+            self.close()
+            pipe = None
         if pipe is None:
             pipe = self._holder[0] = _Pipe(self.argv, self.where)
             self._told = self._told_dict = None
@@ -299,8 +328,9 @@ class Process(StepFunction):
         one poll, one read."""
         pipe = self._holder[0]
         if sd is not self._told_dict or pipe is None:
+            pipe = self._pipe()
             text = json.dumps(sd, separators=(",", ":"))
-            if text != self._told or pipe is None:
+            if text != self._told:
                 self._tell(sd, text)
             self._told_dict, pipe = sd, self._holder[0]
         if self._skip is not None:

@@ -314,3 +314,23 @@ def test_a_process_left_after_the_diagnosis_probes_is_ended_when_dropped(step_c,
     assert not gone(pid)
     del sim
     assert gone(pid)
+
+
+def test_a_fork_of_the_harness_starts_its_own_process_and_leaves_the_parent_s(step_c, scene):
+    """run forks one copy of the harness per scene after the preflight has started a process: the
+    copy must start its own, and the parent's must go on answering."""
+    sim = Process(step_c)
+    sd = scene_dict(scene)
+    z = np.array(sd["state0"])
+    first = sim.function(z, sd, scene.dt)
+    parent = sim._holder[0].proc.pid
+    child = os.fork()
+    if child == 0:   # the copy: its own process, the same answer, then its process ended
+        ok = sim.function(z, sd, scene.dt) == first and sim._holder[0].proc.pid != parent
+        sim.close()
+        os._exit(0 if ok else 1)
+    _, status = os.waitpid(child, 0)
+    assert os.waitstatus_to_exitcode(status) == 0
+    assert sim.function(z, sd, scene.dt) == first and sim._holder[0].proc.pid == parent
+    sim.close()
+    assert gone(parent)
