@@ -345,7 +345,7 @@ class Process(StepFunction):
         words = line.split()
         if len(words) == 6:
             try:
-                return [float(w) for w in words]
+                return list(map(float, words))
             except ValueError:
                 pass
             problem = f"answered {_quote(line)}"

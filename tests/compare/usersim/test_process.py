@@ -334,3 +334,13 @@ def test_a_fork_of_the_harness_starts_its_own_process_and_leaves_the_parent_s(st
     assert sim.function(z, sd, scene.dt) == first and sim._holder[0].proc.pid == parent
     sim.close()
     assert gone(parent)
+
+
+def test_tools_overhead_shows_a_process_round_trip_beside_the_python_call(step_c, capsys):
+    from compare.usersim.overhead import print_round_trip
+    scene = dataclasses.replace(load("box_drop"), duration=0.05)   # 1000 steps
+    trip = print_round_trip(scene)
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("no-op process (C) through --sim-process: ") and " us/step round trip (CPU: harness " in out[0]
+    assert out[1].startswith("examples/process/step.c on box_drop (semi_implicit_euler), 1000 steps: ")
+    assert 0.0 < trip < 1e-2
