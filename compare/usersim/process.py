@@ -52,8 +52,9 @@ EXIT_GRACE = 1.0
 # What is quoted of a line that came back, at most (characters).
 QUOTE = 120
 ANSWER = "6 numbers X Y THETA VX VY OMEGA"
-# A step request: %r of a float is its repr, the shortest text that reads back to the same double.
-_REQUEST = "step %r %r %r %r %r %r %r\n"
+# A step request: %r of a float is its repr, the shortest text that reads back to the same double
+# (bytes formatted directly: half the time of a str then encoded).
+_REQUEST = b"step %r %r %r %r %r %r %r\n"
 
 
 class ProcessFault(UserFault):
@@ -337,11 +338,11 @@ class Process(StepFunction):
             raise NotImplementedError(self._skip)
         self._steps += 1
         z = state.tolist() if state.__class__ is np.ndarray else [float(v) for v in state]
-        request = _REQUEST % (dt, *z)
+        request = _REQUEST % (float(dt), *z)
         try:
-            line = pipe.ask(request.encode(), self.timeout)
+            line = pipe.ask(request, self.timeout)
         except (EOFError, TimeoutError) as exc:
-            raise self._lost(pipe, exc, request[:-1], self._context(sd), self.timeout) from None
+            raise self._lost(pipe, exc, request[:-1].decode(), self._context(sd), self.timeout) from None
         words = line.split()
         if len(words) == 6:
             try:
@@ -355,7 +356,7 @@ class Process(StepFunction):
             problem = f"answered {len(words)} number{'s' if len(words) != 1 else ''} {_quote(line)}"
         else:
             problem = f"answered {_quote(line)}"
-        raise self._fault(request[:-1], self._context(sd), f"{problem} (expected {ANSWER})")
+        raise self._fault(request[:-1].decode(), self._context(sd), f"{problem} (expected {ANSWER})")
 
     def _context(self, sd: dict) -> str:
         return f" (step {self._steps} of scene {sd.get('name', '?')})"
