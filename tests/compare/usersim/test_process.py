@@ -344,3 +344,18 @@ def test_tools_overhead_shows_a_process_round_trip_beside_the_python_call(step_c
     assert out[0].startswith("no-op process (C) through --sim-process: ") and " us/step round trip (CPU: harness " in out[0]
     assert out[1].startswith("examples/process/step.c on box_drop (semi_implicit_euler), 1000 steps: ")
     assert 0.0 < trip < 1e-2
+
+
+def test_identify_names_the_probe_and_the_process_s_line_in_one_line(tmp_path, capsys):
+    garbled = script(tmp_path, """
+        import sys
+        for line in sys.stdin:
+            print("ready scene" if line.startswith("scene ") else "hello", flush=True)
+    """)
+    command = f"{PY} {garbled}"
+    assert main(["identify", "--sim-process", command, "point_drop"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err
+    assert err.startswith(f"error: {command} called by identify (")
+    assert err.endswith(f": --sim-process {command!r}: request `{err.split('request `')[1].split('`')[0]}` "
+                        f"(step 1 of scene point_drop): answered 'hello' (expected {ANSWER})")
