@@ -105,6 +105,7 @@ class _Pipe:
         self.poller.register(self.fd_out, select.POLLIN)
         self.buffer = bytearray()
         self.owner = os.getpid()             # a forked copy of the harness (run's scenes) must not use it
+        self.first = True                    # no answer yet: the first may take START_TIMEOUT
 
     def ask(self, line: bytes, timeout: float) -> bytes:
         """The reply line (without its newline) to `line`; raises EOFError when the process has
@@ -306,8 +307,9 @@ class Process(StepFunction):
         """Send the scene line; the answer ("ready", integrator) or ("skip", reason). A misnamed
         integrator is bad input (as a Python module's INTEGRATOR); a fault is a ProcessFault."""
         context = f" (scene {sd.get('name', '?')})"
-        started = self._holder[0] is not None
-        line = self._exchange(f"scene {text}", context, self.timeout if started else self.start_timeout)
+        pipe = self._pipe()
+        line = self._exchange(f"scene {text}", context, self.start_timeout if pipe.first else self.timeout)
+        pipe.first = False
         word, _, rest = line.decode("utf-8", "replace").strip().partition(" ")
         rest = rest.strip()
         if word == "ready" and rest:

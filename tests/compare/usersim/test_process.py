@@ -359,3 +359,14 @@ def test_identify_names_the_probe_and_the_process_s_line_in_one_line(tmp_path, c
     assert err.startswith(f"error: {command} called by identify (")
     assert err.endswith(f": --sim-process {command!r}: request `{err.split('request `')[1].split('`')[0]}` "
                         f"(step 1 of scene point_drop): answered 'hello' (expected {ANSWER})")
+
+
+def test_the_first_answer_may_take_the_start_timeout_the_others_the_reply_timeout(tmp_path, scene):
+    slow_start = script(tmp_path, """
+        import sys, time
+        time.sleep(0.6)   # an interpreter loading
+        for line in sys.stdin:
+            print("ready scene" if line.startswith("scene ") else " ".join(line.split()[2:]), flush=True)
+    """)
+    sim = Process(f"{PY} {slow_start}", timeout=0.3, start_timeout=5.0)
+    assert run_user(sim, scene).states().shape == (scene.steps + 1, 6)
