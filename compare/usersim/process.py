@@ -84,8 +84,9 @@ def _argv(command: str) -> list[str]:
         if not os.access(program, os.X_OK):
             raise UserCodeError(f"{where}: cannot start {program}: not executable (chmod +x {program}?)")
     elif shutil.which(program) is None:
-        raise UserCodeError(f"{where}: cannot start {program}: no such program on PATH "
-                            f"(a file in this folder is ./{program})")
+        hint = (f"this folder's file is ./{program}" if os.path.isfile(program)
+                else "expected a program on PATH, or a path to one such as ./step")
+        raise UserCodeError(f"{where}: cannot start {program}: no such program on PATH ({hint})")
     return argv
 
 

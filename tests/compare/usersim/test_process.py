@@ -291,13 +291,21 @@ def test_validate_prints_a_failing_process_as_that_scene_s_error_line(tmp_path, 
     ("/no/such/folder/sim", "--sim-process '/no/such/folder/sim': cannot start /no/such/folder/sim: no such file "
                             "(expected a program to run)"),
     ("no_such_program_q7", "--sim-process 'no_such_program_q7': cannot start no_such_program_q7: no such program "
-                           "on PATH (a file in this folder is ./no_such_program_q7)"),
+                           "on PATH (expected a program on PATH, or a path to one such as ./step)"),
     ("'unbalanced", "--sim-process \"'unbalanced\": cannot read the command (No closing quotation); expected a "
                     "command line, e.g. \"./step\" or \"node step.js\""),
 ])
 def test_a_command_that_cannot_start_is_bad_input_in_one_line(command, message, capsys):
     assert main(["validate", "--sim-process", command, "point_drop"]) == 2
     assert capsys.readouterr().err.strip() == f"error: {message}"
+
+
+def test_a_program_in_this_folder_named_without_its_path_is_pointed_to(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "mystep").write_text("")
+    assert main(["validate", "--sim-process", "mystep", "point_drop"]) == 2
+    assert capsys.readouterr().err.strip() == ("error: --sim-process 'mystep': cannot start mystep: no such program "
+                                               "on PATH (this folder's file is ./mystep)")
 
 
 def test_a_file_that_is_not_executable_is_bad_input(tmp_path, capsys):
