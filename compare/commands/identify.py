@@ -34,6 +34,9 @@ def add_arguments(parser) -> None:
                        help="FUNCTION is simulate(scene) -> array (steps + 1, 6): regression over its run")
     which.add_argument("--trajectories", metavar="DIR",
                        help="DIR/<scene>.csv (t,x,y,theta,vx,vy,omega): regression over each file's steps")
+    which.add_argument("--sim-process", metavar="COMMAND",
+                       help="a step function in any language on stdin/stdout (docs/process-protocol.md): "
+                            "designed probes as for a Python step; then scenes only")
 
 
 def _one_line(exc, scene: str = "") -> None:
@@ -52,7 +55,7 @@ def main(args) -> int:
     from ..usersim import SceneSkipped, UserCodeError, UserFault, load_simulator
 
     targets = list(args.targets)
-    if args.trajectories is None:
+    if args.trajectories is None and args.sim_process is None:
         if not targets:
             raise BadInput("identify: expected MODULE:FUNCTION (a step function, or with --whole a simulate "
                            "function) or --trajectories DIR")
@@ -60,7 +63,7 @@ def main(args) -> int:
     else:
         spec, scenes = None, targets
     try:
-        simulator = load_simulator(spec, args.whole, args.trajectories)
+        simulator = load_simulator(spec, args.whole, args.trajectories, args.sim_process)
     except UserCodeError as exc:
         _one_line(exc)
     scene_list = load_all(scenes)

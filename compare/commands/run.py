@@ -35,6 +35,9 @@ def add_arguments(parser) -> None:
                             "from the t = 0 state; MODULE is a dotted module or a path to a .py file. "
                             "A module-level INTEGRATOR = \"rk4\" names the integrator it implements "
                             "(default: the scene's)")
+    which.add_argument("--sim-process", metavar="COMMAND",
+                       help="a step function in any language: COMMAND reads the scene and `step DT X Y THETA VX VY "
+                            "OMEGA` lines on stdin and answers 6 numbers per line (docs/process-protocol.md)")
     user.add_argument("--whole", action="store_true",
                       help="with --sim: FUNCTION is simulate(scene) -> array (steps + 1, 6), row 0 the t = 0 "
                            "state (a 7th column, if any, is the energy in J)")

@@ -6,7 +6,7 @@ import contextlib
 import numpy as np
 
 from ..usersim.base import STATE, _state_text
-from ..usersim.errors import UserCodeError, not_implemented, one_line
+from ..usersim.errors import UserCodeError, UserFault, not_implemented, one_line
 from ..usersim.functions import StepFunction, as_state
 from ..usersim.guard import user_code
 from ..usersim.scene_dict import scene_dict
@@ -56,6 +56,8 @@ class StepCalls:
                 out = self.simulator.function(np.array(z0, dtype=float), self.scene_d, float(h))
             except NotImplementedError as exc:   # the step does not do this scene: skipped
                 raise not_implemented(exc) from None
+            except UserFault as exc:   # a process's fault (process.py): its one line, with the probe
+                raise UserCodeError(f"{where}: {exc}") from None
             except Exception as exc:  # noqa: BLE001 - any fault of the user's step is bad input here
                 raise UserCodeError(f"{where} raised {one_line(exc)}") from None
         z1, _ = as_state(out, where)

@@ -237,7 +237,7 @@ class StepFunction(_Function):
         try:
             with user_code(where):
                 out = self.function(np.array(state, dtype=float), scene_d, dt)
-        except UserCodeError:
+        except (UserCodeError, UserFault):   # a process's fault is one line already (process.py)
             raise
         except Exception as exc:  # noqa: BLE001
             raise UserFault(raised(where, exc, f"a state {STATE}")) from None
@@ -268,7 +268,7 @@ class StepFunction(_Function):
                     per_step = (time.perf_counter() - t0) / (end - first + 1)
                     chunk = int(min(4 * chunk, max(1.0, REPORT_EVERY / max(per_step, 1e-9))))
                     i = end + 1
-        except UserCodeError:
+        except (UserCodeError, UserFault):   # a process's fault is one line already (process.py)
             raise
         except NotImplementedError as exc:   # the code does not do this scene: skipped
             raise not_implemented(exc, i) from None

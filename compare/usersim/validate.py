@@ -24,10 +24,10 @@ def _cell(row) -> str:
 
 
 def validate(spec: str | None, scenes: list[str], whole: bool = False, trajectories: str | None = None,
-             markdown: bool = False, law: str | None = None) -> int:
-    """Hold spec (MODULE:FUNCTION, or None with trajectories) to the checks on the scenes, under
-    `law` (a law file, `identified`, or None: each scene's own): one line per scene (with
-    markdown, its diagnosis in full); a scene the simulator skips is a line saying why, and
+             markdown: bool = False, law: str | None = None, process: str | None = None) -> int:
+    """Hold spec (MODULE:FUNCTION, or None with trajectories or process) to the checks on the
+    scenes, under `law` (a law file, `identified`, or None: each scene's own): one line per scene
+    (with markdown, its diagnosis in full); a scene the simulator skips is a line saying why, and
     fails nothing. The exit status."""
     from ..scenarios import load_all
     from ..checks.identical_check import check_identical
@@ -37,9 +37,9 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
 
     from . import SceneSkipped, UserFault, preflight
 
-    sim = load_simulator(spec, whole, trajectories)
+    sim = load_simulator(spec, whole, trajectories, process)
     if sim is None:
-        raise SystemExit("expected MODULE:FUNCTION or --trajectories DIR")
+        raise SystemExit("expected MODULE:FUNCTION, --trajectories DIR or --sim-process COMMAND")
     scenes = load_all(scenes)
     preflight(sim, scenes)
     if law:
