@@ -364,6 +364,13 @@ class Process(StepFunction):
     def _context(self, sd: dict) -> str:
         return f" (step {self._steps} of scene {sd.get('name', '?')})"
 
+    def skip_reason(self, scene: Scene) -> str | None:
+        """The reason the process gave in `skip REASON` for this scene, or None: asked once per
+        scene, before any step (the handshake integrator_for makes)."""
+        self.integrator_for(scene)
+        answer = self._answers.get(json.dumps(scene_dict(scene), separators=(",", ":")))
+        return answer[1] if answer is not None and answer[0] == "skip" else None
+
     def integrator_for(self, scene: Scene) -> str:
         """The integrator the process names in its `ready` for this scene (the scene's for
         "scene", or for a scene it skips or fails on: its run then says so)."""

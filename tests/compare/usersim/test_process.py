@@ -22,7 +22,7 @@ import pytest
 
 from compare.cli import main
 from compare.scenarios import load
-from compare.usersim import UserCodeError, UserFault, load_simulator, preflight, run_user
+from compare.usersim import SceneSkipped, UserCodeError, UserFault, load_simulator, preflight, run_user
 from compare.usersim.process import ANSWER, Process
 from compare.usersim.scene_dict import scene_dict
 
@@ -194,8 +194,8 @@ def test_ready_names_the_integrator_and_a_misspelled_one_is_bad_input(tmp_path):
 
 
 def test_a_skipped_scene_raises_not_implemented_with_the_reason(tmp_path):
-    """`skip REASON`: the step raises NotImplementedError(REASON), the signal of a scene the code
-    does not do (the scene's row names the reason)."""
+    """`skip REASON`: the scene is skipped with the reason before any step (SceneSkipped, as a
+    module's SHAPES), and a step asked anyway raises NotImplementedError(REASON)."""
     skip = script(tmp_path, """
         import sys
         for line in sys.stdin:
@@ -206,7 +206,8 @@ def test_a_skipped_scene_raises_not_implemented_with_the_reason(tmp_path):
     assert sim.integrator_for(scene) == scene.integrator
     with pytest.raises(NotImplementedError, match="^boxes only$"):
         sim.function(np.zeros(6), scene_dict(scene), scene.dt)
-    with pytest.raises(UserFault, match="NotImplementedError: boxes only"):
+    assert sim.skip_reason(scene) == "boxes only"
+    with pytest.raises(SceneSkipped, match="^boxes only$"):
         sim.run(dataclasses.replace(scene, duration=0.01))
     sim.close()
 
@@ -364,7 +365,7 @@ def test_identify_names_the_probe_and_the_process_s_line_in_one_line(tmp_path, c
     assert main(["identify", "--sim-process", command, "point_drop"]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err
-    assert err.startswith(f"error: {command} called by identify (")
+    assert err.startswith(f"error: point_drop: {command} called by identify (")   # its scene named
     assert err.endswith(f": --sim-process {command!r}: request `{err.split('request `')[1].split('`')[0]}` "
                         f"(step 1 of scene point_drop): answered 'hello' (expected {ANSWER})")
 
