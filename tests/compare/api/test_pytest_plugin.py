@@ -40,6 +40,7 @@ def user(pytester, monkeypatch, tmp_path_factory):
 
 def test_without_contact_sim_the_plugin_adds_nothing(pytester, monkeypatch):
     monkeypatch.setenv("PYTEST_DISABLE_PLUGIN_AUTOLOAD", "1")
+    monkeypatch.setenv("PYTHONPATH", str(ROOT))
     pytester.makepyfile(test_plain="def test_one():\n    pass\n")
     result = pytester.runpytest_subprocess(*PLUGIN, "--collect-only", "-q")
     assert result.ret == 0
