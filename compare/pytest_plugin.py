@@ -7,6 +7,8 @@ See docs/python-api.md.
 """
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 COLLECTOR = "contact-sim"   # the collector's name: items are contact-sim::SCENE
@@ -90,8 +92,8 @@ class ContactScene(pytest.Item):
         scene = judgement[self.name]
         from compare.api.status import Status
 
-        if scene.status is Status.SKIPPED:
-            pytest.skip(scene.reason or "skipped by the code under test")
+        if scene.status is Status.SKIPPED:   # reported at the scene's file, not at this line
+            raise pytest.skip.Exception(scene.reason or "skipped by the code under test", _use_item_location=True)
         if not scene.passed:
             text = list(scene.lines)
             if scene.diagnosis is not None:
@@ -105,7 +107,7 @@ class ContactScene(pytest.Item):
         return super().repr_failure(excinfo, style)
 
     def reportinfo(self):
-        return self.config.invocation_params.dir, None, f"{COLLECTOR}::{self.name}"
+        return Path(self.spec), 0, f"{COLLECTOR}::{self.name}"
 
 
 _JUDGED = pytest.StashKey[object]()

@@ -107,7 +107,8 @@ def _run(args) -> int:
     for scene in judgement.scenes:
         if scene.metrics is None:
             print("\n".join(scene.lines))
-            print(f"error: {scene.reason}", file=sys.stderr)
+            if scene.status != "skipped":
+                print(f"error: {scene.reason}", file=sys.stderr)
     print(cache_line([s.metrics for s in judgement.scenes if s.metrics is not None]), file=sys.stderr)
     print(f"report: {judgement.report}")
     return judgement.exit_status

@@ -52,8 +52,9 @@ def law_line(text: str) -> str:
 
 
 def no_verdict_line(name: str, status: str, why: str) -> str:
-    """The line of a scenario that reached no verdict (error, unstable, timeout): its status and why."""
-    return f"{name:<20} {status}: {why}"
+    """The line of a scenario that reached no verdict (error, unstable, timeout; skipped: a scene
+    the code under test does not do): its status and why."""
+    return f"{name:<20} skipped  {why}" if status == "skipped" else f"{name:<20} {status}: {why}"
 
 
 def cache_line(rows: list[dict]) -> str:

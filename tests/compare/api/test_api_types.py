@@ -91,6 +91,15 @@ def test_a_judgement_prints_run_s_lines_and_says_what_failed():
     assert Judgement.of_report([passing], []).passed
 
 
+def test_a_skipped_scene_is_its_reason_and_fails_nothing_unless_every_scene_was_skipped():
+    passing = metrics("point_drop", [check_row("step", 0.0, 1e-9, 0.0, 1e-9, True)])
+    j = Judgement.of_report([passing], [("rolling_circle", "skipped", "SHAPES = ('box',) has no circle")])
+    assert j.lines[1] == f"{'rolling_circle':<20} skipped  SHAPES = ('box',) has no circle"
+    assert j["rolling_circle"].status is Status.SKIPPED and j["rolling_circle"].reason.startswith("SHAPES")
+    assert j.passed
+    assert not Judgement.of_report([], [("rolling_circle", "skipped", "no circles")]).passed
+
+
 def test_the_results_are_frozen():
     j = Judgement.of_report([metrics("a", [check_row("step", 0.0, 1e-9, 0.0, 1e-9, True)])], [])
     with pytest.raises(AttributeError):

@@ -38,6 +38,44 @@ def user(pytester, monkeypatch, tmp_path_factory):
     return pytester
 
 
+# A judgement made by hand (no scenario runs): the plugin's mapping of each status to pytest's outcome
+FAKE_JUDGE = '''
+from compare.api.harness import Harness
+from compare.api.judgement import Judgement
+
+ROW = {"name": "box_drop", "pass": False, "status": "FAIL", "warnings": [],
+       "diagnosis": {"verdict": "explained by box_inertia_about_corner", "named": [], "laws": []},
+       "checks": [{"name": "step", "integrator": "rk4", "position_error_max": 1e-3, "angle_error_max": 0.0,
+                   "tolerance_position": 1e-9, "tolerance_angle": 1e-9, "pass": False, "reason": ""}]}
+SEEN = []
+
+
+def judge(self, sim=None, scenes=None, **options):
+    SEEN.append(list(scenes))
+    assert len(SEEN) == 1, "judged once per session"
+    return Judgement.of_report([ROW], [("rolling_circle", "skipped", "SHAPES = ('box',): no circle"),
+                                       ("point_drop", "error", "my_sim.py:step at step 3 raised ZeroDivisionError")])
+
+
+Harness.judge = judge
+'''
+
+
+def test_each_status_is_pytest_s_outcome_a_skip_with_its_reason(pytester, monkeypatch):
+    monkeypatch.setenv("PYTEST_DISABLE_PLUGIN_AUTOLOAD", "1")
+    monkeypatch.setenv("PYTHONPATH", str(ROOT))
+    pytester.makeconftest(FAKE_JUDGE)
+    result = pytester.runpytest_subprocess(*PLUGIN, "--contact-sim", "my_sim.py:step", "--contact-scenes",
+                                           "box_drop,rolling_circle,point_drop", "-rs")
+    result.assert_outcomes(failed=2, skipped=1)
+    result.stdout.fnmatch_lines(["*_ contact-sim::box_drop _*",
+                                 "box_drop             FAIL  step (rk4): *",
+                                 "diagnosis: explained by box_inertia_about_corner",
+                                 "*_ contact-sim::point_drop _*",
+                                 "point_drop           error: my_sim.py:step at step 3 raised ZeroDivisionError",
+                                 "SKIPPED ?1? *scenarios/rolling_circle.toml:?: SHAPES = ('box',): no circle"])
+
+
 def test_without_contact_sim_the_plugin_adds_nothing(pytester, monkeypatch):
     monkeypatch.setenv("PYTEST_DISABLE_PLUGIN_AUTOLOAD", "1")
     monkeypatch.setenv("PYTHONPATH", str(ROOT))
