@@ -55,6 +55,7 @@ class Identification:
     body: Effect | None
     matches_scene: Mapping[str, bool | None]      # per effect: the scene's own law and parameters?
     keeps_state: bool | None = None               # a step that keeps state between calls (no designed probes)
+    skipped: str | None = None                    # a scene the code does not do: why (no effects then)
     data: Mapping[str, Any] = field(default_factory=dict, compare=False, repr=False)
 
     @property
@@ -74,4 +75,4 @@ class Identification:
         data = json.loads(as_json(result))
         effects = {e: Effect.from_json(e, data.get(e)) for e in EFFECTS}
         return cls(data.get("scene", ""), **effects, matches_scene=MappingProxyType(data.get("matches_scene") or {}),
-                   keeps_state=data.get("keeps_state"), data=MappingProxyType(data))
+                   keeps_state=data.get("keeps_state"), skipped=data.get("skipped"), data=MappingProxyType(data))

@@ -5,8 +5,9 @@ built-in scenario runs. Writes DIR/index.md and DIR/<name>/ (metrics.json, traje
 CSVs, model.xml, plots), into a hidden folder first, then moved into place whole. Exit
 status: 0 every scenario judged and every judged check within its tolerance; 1 a check
 outside it, or a scenario that could not be judged (nothing judged, unstable, timed out, or an
-error: its row says why); 2 bad input (nothing is written); 130 stopped with Ctrl-C (nothing
-is written).
+error: its row says why), or every scenario skipped (a scene the simulator under test says it
+does not do: SHAPES, NotImplementedError; skipped scenes fail nothing); 2 bad input (nothing
+is written); 130 stopped with Ctrl-C (nothing is written).
 """
 from __future__ import annotations
 
@@ -106,9 +107,7 @@ def _run(args) -> int:
         print(text, file=sys.stderr)
     for scene in judgement.scenes:
         if scene.metrics is None:
-            print("\n".join(scene.lines))
-            if scene.status != "skipped":
-                print(f"error: {scene.reason}", file=sys.stderr)
+            print("\n".join(scene.lines))   # each once, with its scene
     print(cache_line([s.metrics for s in judgement.scenes if s.metrics is not None]), file=sys.stderr)
     print(f"report: {judgement.report}")
     return judgement.exit_status

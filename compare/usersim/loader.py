@@ -8,7 +8,8 @@ state = [x, y, theta, vx, vy, omega] (m, m, rad, m/s, m/s, rad/s) of the centre 
 = scene_dict(scene), the resolved scene as plain dicts and floats. MODULE is a dotted module
 name (importable from the current folder) or a path to a .py file. A simulator may name the
 integrator it implements in a module-level INTEGRATOR (a string; default: the scene's), and a
---whole function may return a 7th column, the energy (J). A folder of trajectories may hold a
+--whole function may return a 7th column, the energy (J). A module's SHAPES (e.g. ("box",)), or
+NotImplementedError from its function, skips a scene: SceneSkipped, never judged. A folder of trajectories may hold a
 simulator.toml with `integrator = "..."`.
 
 A fault of the protocol (a module that does not import, a wrong return, a misspelled

@@ -107,3 +107,14 @@ def test_bad_input_raises_one_clear_error_before_anything_runs(tmp_path):
     with pytest.raises(compare.BadInput, match="no such file"):
         compare.identify("nowhere.py:step", "box_drop")
     assert not (tmp_path / "r").exists()
+
+
+def test_a_scene_the_code_does_not_do_is_skipped_with_its_reason():
+    box_only = str(ROOT / "tests" / "outsiders" / "box_only_shapes.py") + ":step"   # SHAPES = ("box",)
+    judgement = compare.judge(box_only, "rolling_circle", jobs=1)
+    scene = judgement["rolling_circle"]
+    assert scene.status is compare.Status.SKIPPED and "circle" in scene.reason and scene.checks == ()
+    assert judgement.lines == (f"{'rolling_circle':<20} skipped  {scene.reason}",)
+    assert not judgement.passed          # every scene skipped: nothing was judged
+    (found,) = compare.identify(box_only, "rolling_circle")
+    assert found.skipped == scene.reason and found.normal is None

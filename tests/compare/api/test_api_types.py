@@ -128,6 +128,12 @@ def test_an_identification_reads_identify_s_json_as_attributes_and_gives_it_back
     assert ident.to_json() == {**result, "body": {**result["body"], "inertia": None}}
 
 
+def test_a_skipped_scene_s_identification_is_its_reason():
+    ident = Identification.from_result({"scene": "rolling_circle", "skipped": "SHAPES = ('box',)"})
+    assert ident.skipped == "SHAPES = ('box',)" and ident.normal is None and ident.matches
+    assert ident.to_json() == {"scene": "rolling_circle", "skipped": "SHAPES = ('box',)"}
+
+
 def test_a_function_object_is_a_step_function_and_anything_else_is_bad_input():
     def step(state, scene, dt):
         return state
