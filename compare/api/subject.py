@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..usersim import UserCodeError
-from ..usersim.functions import StepFunction, WholeFunction
+from ..usersim.functions import StepFunction, WholeFunction, declared_shapes
 
 
 def _name(fn) -> str:
@@ -17,7 +17,7 @@ def _name(fn) -> str:
 class _Callable:
     """A function object given directly: called as it is (its module is not imported again, so
     state a closure keeps is the caller's to reset; every scene still runs in a process of its
-    own). A module-level INTEGRATOR of the function's module is read as --sim reads it."""
+    own). A module-level INTEGRATOR and SHAPES of the function's module are read as --sim reads them."""
 
     def __init__(self, fn):
         self.fn = fn
@@ -29,6 +29,7 @@ class _Callable:
     def fresh(self) -> None:
         self.function = self.fn
         self.module = sys.modules.get(getattr(self.fn, "__module__", None) or "") or _NoModule()
+        self.shapes = declared_shapes(getattr(self.module, "SHAPES", None), f"{self.spec}: SHAPES")
 
     def __reduce__(self):   # `run` forks its scene processes (nothing pickled); a spawned pool cannot take it
         raise TypeError(f"{self.spec}: a function object cannot be sent to another process; "
@@ -36,7 +37,7 @@ class _Callable:
 
 
 class _NoModule:
-    """The module of a function that has none (built in a notebook's cell, a lambda): no INTEGRATOR."""
+    """The module of a function that has none (built in a notebook's cell, a lambda): no INTEGRATOR, no SHAPES."""
 
 
 class CallableStep(_Callable, StepFunction):

@@ -149,6 +149,22 @@ def test_a_function_object_is_a_step_function_and_anything_else_is_bad_input():
         simulator_of("no_such_file.py:step")
 
 
+def test_a_function_object_s_module_declares_its_integrator_and_shapes_as_a_named_one_does(monkeypatch):
+    from compare.scenarios import load
+
+    module = types.ModuleType("box_only_user_module")
+    module.SHAPES, module.INTEGRATOR = ("box",), "rk4"
+    exec("def step(state, scene, dt):\n    return state\n", module.__dict__)
+    module.step.__module__ = module.__name__
+    monkeypatch.setitem(sys.modules, module.__name__, module)
+    sim = simulator_of(module.step)
+    circle, box = load("rolling_circle"), load("box_drop")
+    assert sim.skip_reason(circle) == "a circle body, not in the module's SHAPES = ('box',)"
+    assert sim.skip_reason(box) is None and sim.integrator_for(box) == "rk4"
+    plain = simulator_of(lambda state, scene, dt: state)
+    assert plain.skip_reason(circle) is None and plain.integrator_for(box) == box.integrator
+
+
 def test_compare_process_is_the_process_simulator_where_the_harness_has_one(monkeypatch):
     fake = types.ModuleType("compare.usersim.process")
     fake.Process = type("Process", (), {})
