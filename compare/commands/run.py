@@ -15,7 +15,6 @@ import os
 import sys
 
 from ..cli import EXIT_INTERRUPTED, output_folder
-from ..run.warm_up import compile_everything
 from ..scenarios import load_all
 
 
@@ -80,9 +79,9 @@ def main(args) -> int:
 
 
 def _run(args) -> int:
+    from ..api.judge import collect
     from ..executor import Interrupted
-    from ..run.lines import cache_line, verdict_line
-    from ..run.report import write_report
+    from ..run.lines import cache_line
 
     out = output_folder(args.out).resolve()   # before the user's module imports: its chdir cannot move it
     if getattr(args, "no_cache", False):
@@ -96,33 +95,22 @@ def _run(args) -> int:
     loader = getattr(args, "load_simulator", None)
     if loader is not None:
         simulator = loader(args, scenes)  # bad input is raised here, before anything is written
-    if getattr(args, "law", None):
-        from ..run.law import under_law
-        scenes = under_law(scenes, args.law, simulator)
-    compile_everything()
-
     try:
-        written = write_report(scenes, simulator, out, args.jobs, args.timeout)
+        judgement = collect(scenes, simulator, out, args.jobs, args.timeout, getattr(args, "law", None))
     except Interrupted as exc:
         print(f"interrupted: {'; '.join(exc.where) or 'between two scenarios'}; nothing written", file=sys.stderr)
         return EXIT_INTERRUPTED
-    rows, failed = written.rows, written.failed
-    for r in rows:
-        for warning in r.get("warnings", []):
-            named = warning if warning.startswith(f"{r['name']}:") else f"{r['name']}: {warning}"
-            print(f"warning: {named}", file=sys.stderr)
-        print(verdict_line(r))
-        for law in (r.get("diagnosis") or {}).get("laws") or []:
-            print(f"{'':<20} law   {law['text']}")
-    for text in written.details:
+    # the lines compare.judge returns (compare/api/judgement.py): scenes with a verdict, then the others
+    for scene in judgement.scenes:
+        if scene.metrics is not None:
+            for warning in scene.warnings:
+                print(f"warning: {warning}", file=sys.stderr)
+            print("\n".join(scene.lines))
+    for text in judgement.details:
         print(text, file=sys.stderr)
-    for name, status, why in failed:   # each once, with its scene
-        print(f"{name:<20} skipped  {why}" if status == "skipped" else f"{name:<20} {status}: {why}")
-    print(cache_line(rows), file=sys.stderr)
-    if failed or any(r.get("cache", {}).get("misses") for r in rows):   # the cache may have grown
-        from ..store import trim
-        trim()
-    print(f"report: {written.index}")
-    judged = all(any(c["pass"] is not None for c in r["checks"]) for r in rows)
-    errors = [f for f in failed if f[1] != "skipped"]   # a skipped scene fails nothing, and passes nothing
-    return 0 if rows and not errors and judged and all(r["pass"] for r in rows) else 1
+    for scene in judgement.scenes:
+        if scene.metrics is None:
+            print("\n".join(scene.lines))   # each once, with its scene
+    print(cache_line([s.metrics for s in judgement.scenes if s.metrics is not None]), file=sys.stderr)
+    print(f"report: {judgement.report}")
+    return judgement.exit_status

@@ -46,6 +46,17 @@ def verdict_line(row: dict) -> str:
     return f"{name:<20} FAIL  " + "; ".join(failure_text(c) for c in checks if c.passed is False)
 
 
+def law_line(text: str) -> str:
+    """A law sentence of a scenario's diagnosis, under its verdict line."""
+    return f"{'':<20} law   {text}"
+
+
+def no_verdict_line(name: str, status: str, why: str) -> str:
+    """The line of a scenario that reached no verdict (error, unstable, timeout; skipped: a scene
+    the code under test does not do): its status and why."""
+    return f"{name:<20} skipped  {why}" if status == "skipped" else f"{name:<20} {status}: {why}"
+
+
 def cache_line(rows: list[dict]) -> str:
     """What came from the cache of scene-only work (compare/store.py), in one line."""
     from ..store import folder
