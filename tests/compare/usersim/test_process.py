@@ -235,11 +235,16 @@ def scene():
     return dataclasses.replace(load("point_drop"), duration=0.01)
 
 
+# A Python process's start (its first answer) on a loaded 2-core machine: seconds, not the short
+# reply timeout the hang test sets for the answers after it.
+START = 30.0
+
+
 def faulty(tmp_path, fault: str, ready: str = "ready scene", timeout: float = 10.0):
     pidfile = tmp_path / "pid"
     path = script(tmp_path, FAULTY.format(fault=fault, ready=ready))
     command = f"{PY} {path} {pidfile}"
-    return Process(command, timeout=timeout, start_timeout=timeout), command, pidfile
+    return Process(command, timeout=timeout, start_timeout=START), command, pidfile
 
 
 def third_request(scene) -> str:
