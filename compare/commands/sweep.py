@@ -48,7 +48,7 @@ def add_arguments(parser) -> None:
 def add_simulator_arguments(parser) -> None:
     """--sim, --whole and --law: the user's simulator beside custom_sim and MuJoCo (sweep, bench)."""
     user = parser.add_argument_group(
-        "your simulator (docs/studies.md#what-accuracy-costs-in-your-code)",
+        "your simulator (docs/accuracy-of-your-code.md)",
         "Your code beside custom_sim and MuJoCo: the same ladder of steps, the same stability search.")
     user.add_argument("--sim", metavar="MODULE:FUNCTION",
                       help="a step function step(state, scene, dt) -> state; run with each integrator custom_sim "
@@ -61,9 +61,16 @@ def add_simulator_arguments(parser) -> None:
                            "or `identified`: the law `identify` finds in --sim's step")
 
 
+PROBE_STEPS = 10   # steps of each scene run here first: a wrong return is bad input before the sweep starts
+
+
 def user_simulator(args, scenes):
-    """(simulator or None, the scenes under --law): bad input raised before anything runs."""
-    from ..usersim import from_args, preflight
+    """(simulator or None, the scenes under --law): bad input raised before anything runs (a
+    wrong return shows in the first steps; a fault of the run, e.g. NotImplementedError, is the
+    sweep's to report)."""
+    import dataclasses
+
+    from ..usersim import UserFault, from_args, preflight
 
     simulator = from_args(args)
     if simulator is not None:
@@ -71,6 +78,12 @@ def user_simulator(args, scenes):
     if getattr(args, "law", None):
         from ..run.law import under_law
         scenes = under_law(scenes, args.law, simulator)
+    if simulator is not None:
+        for scene in scenes:
+            try:
+                simulator.run(dataclasses.replace(scene, duration=min(scene.duration, PROBE_STEPS * scene.dt)))
+            except UserFault:
+                pass
     return simulator, scenes
 
 

@@ -55,7 +55,8 @@ def variant(scene: Scene, integrator: str, dt: float) -> Scene:
 @dataclass(frozen=True)
 class Trial:
     """One run of the user's code: states (steps + 1, 6), or None with `fault` (its one line);
-    cpu and wall time (s) of the call, from the fresh import to the last state."""
+    cpu and wall time (s) of the call, from the fresh import to the last state. A wrong return met
+    after the first steps (the commands probe those) is kept as a fault too: the run's note names it."""
 
     states: np.ndarray | None
     fault: str
@@ -67,16 +68,22 @@ class Trial:
         """The code said it does not do this (raised NotImplementedError)."""
         return f"raised {SKIPPED}" in self.fault
 
+    @property
+    def reason(self) -> str:
+        """What the code said when it declined: 'NotImplementedError: its message'."""
+        said = self.fault.split(f"raised {SKIPPED}", 1)[-1].rsplit(" (expected", 1)[0]
+        return SKIPPED + said
+
 
 def trial(sim, scene: Scene) -> Trial:
     """sim.run(scene), timed; a fault of the user's run (UserFault) is kept as its line. The CPU
     time is this thread's: for a simulator in another process it is its wall time."""
-    from ...usersim.errors import UserFault
+    from ...usersim.errors import UserCodeError, UserFault
 
     w0, c0 = time.perf_counter(), time.thread_time()
     try:
         run = sim.run(scene)
-    except UserFault as exc:
+    except (UserFault, UserCodeError) as exc:
         return Trial(None, str(exc).splitlines()[0], math.nan, math.nan)
     cpu, wall = time.thread_time() - c0, time.perf_counter() - w0
     if getattr(sim, "kind", "") not in ("step", "whole"):
@@ -136,7 +143,7 @@ def yours_limit(sim, scene: Scene, integrator: str, scale: float, **bisection) -
     does not do (NotImplementedError) gives h_max nan and the reason."""
     first = trial(sim, variant(scene, integrator, scene.dt))
     if first.skipped:
-        return StabilityLimit(YOURS, integrator, math.nan, reason=first.fault)
+        return StabilityLimit(YOURS, integrator, math.nan, reason=first.reason)
     bisection.setdefault("min_step", max(MIN_STEP, scene.duration / MAX_STEPS))
     return largest_stable_step(lambda h: yours_stable(sim, scene, integrator, h, scale), scene.dt,
                                simulator=YOURS, integrator=integrator, **bisection)
@@ -166,7 +173,7 @@ def yours_ladder(sim, scene: Scene, integrator: str, ref_states: np.ndarray, sca
         run = Run(YOURS, integrator, dt, steps_for(scene, dt), force_evals=None)
         first = trial(sim, sc)
         if first.skipped:
-            return [], first.fault
+            return [], first.reason
         if first.states is None:
             run.stable, run.note = False, f"blow-up: {first.fault}"
             runs.append(run)

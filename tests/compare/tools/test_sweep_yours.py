@@ -208,3 +208,23 @@ def test_sweep_sim_command(tmp_path, capsys):
     assert {e["simulator"] for e in doc["orders"]} == {"custom", "yours"}
     assert {lim["simulator"] for lim in doc["stability"]} == {"custom", "yours"}
     assert "yours: RK4" in (tmp_path / "sweep" / "index.md").read_text()
+
+
+def test_law_file_lays_its_contact_over_every_scene(tmp_path):
+    """--law FILE on sweep and bench: every simulator runs the scene under the file's law."""
+    import argparse
+
+    from compare.commands.sweep import user_simulator
+    (tmp_path / "law.toml").write_text('[contact]\ndamping_law = "linear"\nk = 2e4\n')
+    args = argparse.Namespace(sim=SEED, whole=False, law=str(tmp_path / "law.toml"))
+    sim, (scene,) = user_simulator(args, [load("box_slide")])
+    assert sim.label == SEED
+    assert (scene.contact.damping_law, scene.contact.k, scene.contact.mu) == ("linear", 2e4, load("box_slide").contact.mu)
+
+
+def test_sweep_sim_wrong_return_is_bad_input_before_the_sweep(tmp_path, capsys):
+    (tmp_path / "short.py").write_text("def step(state, scene, dt):\n    return state[:5]\n")
+    status = main(["sweep", "box_slide", "--sim", f"{tmp_path / 'short.py'}:step", "--out", str(tmp_path)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2 and "returned an array of shape (5,)" in err[-1]
+    assert not (tmp_path / "sweep").exists()
