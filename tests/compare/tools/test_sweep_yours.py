@@ -228,3 +228,20 @@ def test_sweep_sim_wrong_return_is_bad_input_before_the_sweep(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert status == 2 and "returned an array of shape (5,)" in err[-1]
     assert not (tmp_path / "sweep").exists()
+
+
+def test_figure_draws_the_users_curve(tmp_path, reference, monkeypatch):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from compare.tools.sweep.figure import plot_scene
+    scene, ref = reference
+    sweep = sweep_of(scene, ref, StepFunction(OUTSIDER), ["rk4"])
+    monkeypatch.setattr(plt, "close", lambda fig: None)   # keep the figure to read its curves
+    plot_scene(sweep, tmp_path / "figure.png")
+    lines = {line.get_label(): line for line in plt.gcf().axes[0].get_lines()}
+    mine = lines["yours: RK4"]
+    assert mine.get_linestyle() == ":" and list(mine.get_ydata()) == [r.error_max for r in sweep.of(YOURS, "rk4")]
+    assert "ours: RK4" in lines and (tmp_path / "figure.png").stat().st_size > 0
+    plt.close("all")
