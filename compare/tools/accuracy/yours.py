@@ -28,9 +28,25 @@ from custom_sim.integrators import first_unhealthy
 from custom_sim.model import build_model
 from custom_sim.runner import blowup_guard
 
-from .stability_search import MIN_STEP, StabilityLimit, energy_verdict, largest_stable_step
-from .workprecision import (GRID, LADDER, MAX_REPEATS, MIN_REPEATS, RUN_BUDGET, TIMING_BUDGET, Run, grid_times, grid_verdict,
-                            position_errors, steps_for)
+from .stability_search import (
+    MIN_STEP,
+    StabilityLimit,
+    energy_verdict,
+    largest_stable_step,
+)
+from .workprecision import (
+    GRID,
+    LADDER,
+    MAX_REPEATS,
+    MIN_REPEATS,
+    RUN_BUDGET,
+    TIMING_BUDGET,
+    Run,
+    grid_times,
+    grid_verdict,
+    position_errors,
+    steps_for,
+)
 
 YOURS = "yours"          # the simulator's name in the runs, the limits and results.json
 SKIPPED = "NotImplementedError"   # what a user's code raises for an integrator (or scene) it does not do

@@ -92,5 +92,5 @@ def yours_section(sweep) -> list[str]:
         return []
     return ["", f"**Your simulator** (`{sweep.yours['label']}`):", "",
             *[f"- {line}" for line in yours_lines(sweep)], "",
-            "**Orders** (slope of log max error against log dt over the finest rungs whose error stands above "
-            "the reference's own; MuJoCo's against its own converged solution):", "", *orders_table(sweep), ""]
+            ("**Orders** (slope of log max error against log dt over the finest rungs whose error stands above "
+             "the reference's own; MuJoCo's against its own converged solution):"), "", *orders_table(sweep), ""]

@@ -23,9 +23,20 @@ from compare.cli import main
 from compare.scenarios import load
 from compare.tools.accuracy import workprecision as wp
 from compare.tools.accuracy.orders import mismatch, orders
-from compare.tools.accuracy.stability_search import BISECTION_RATIO, custom_limit, energy_scale
-from compare.tools.accuracy.yours import (YOURS, integrators_of, run_verdict, trial, variant, yours_ladder,
-                                          yours_limit)
+from compare.tools.accuracy.stability_search import (
+    BISECTION_RATIO,
+    custom_limit,
+    energy_scale,
+)
+from compare.tools.accuracy.yours import (
+    YOURS,
+    integrators_of,
+    run_verdict,
+    trial,
+    variant,
+    yours_ladder,
+    yours_limit,
+)
 from compare.tools.sweep.results_json import write_json
 from compare.tools.sweep.yours import yours_lines
 from compare.usersim import StepFunction, WholeFunction
@@ -34,6 +45,7 @@ from custom_sim import SimulationChattered, simulate
 ROOT = Path(__file__).resolve().parents[3]
 SEED = str(ROOT / "examples" / "seed_sim.py") + ":step"
 OUTSIDER = str(ROOT / "tests" / "outsiders" / "heun_box.py") + ":step"
+BESIDE_SEED = f"import sys\nsys.path.insert(0, {str(ROOT / 'examples')!r})\n"   # a module that imports the example
 LADDER = (1, 2, 4)        # dt = 2, 1, 0.5 ms: all above the reference's floor for RK4 too
 # Away from contact events the fitted slope lands within 0.05 of the method's order
 # (test_workprecision.py); Heun (explicit trapezoid) is second order.
@@ -115,10 +127,10 @@ def test_whole_run_is_given_each_rungs_dt(tmp_path, reference):
     """--whole: simulate(scene) steps with scene["dt"]; the errors are the step function's."""
     scene, ref = reference
     (tmp_path / "whole_seed.py").write_text(
-        "import numpy as np\nimport sys\nsys.path.insert(0, %r)\nfrom seed_sim import step\n\n"
+        BESIDE_SEED + "import numpy as np\nfrom seed_sim import step\n\n"
         "def simulate(scene):\n    out = [np.array(scene['state0'])]\n"
         "    for _ in range(scene['steps']):\n        out.append(step(out[-1], scene, scene['dt']))\n"
-        "    return np.array(out)\n" % str(ROOT / "examples"))
+        "    return np.array(out)\n")
     whole, _ = yours_ladder(WholeFunction(f"{tmp_path / 'whole_seed.py'}:simulate"), scene, "semi_implicit_euler",
                             ref["states"], ref["energy_scale"], LADDER)
     steps, _ = yours_ladder(StepFunction(SEED), scene, "semi_implicit_euler", ref["states"], ref["energy_scale"],
@@ -154,9 +166,9 @@ def test_stateful_step_starts_each_trial_afresh(tmp_path):
     """A step keeping the time in its module (the seed's step, then a kick after 0.05 s of its
     own clock): every trial is a fresh import, so every trial gives the same run."""
     (tmp_path / "clocked.py").write_text(
-        "import sys\nsys.path.insert(0, %r)\nfrom seed_sim import step as seed\nT = [0.0]\n\n"
+        BESIDE_SEED + "from seed_sim import step as seed\nT = [0.0]\n\n"
         "def step(state, scene, dt):\n    T[0] += dt\n    z = seed(state, scene, dt)\n"
-        "    if abs(T[0] - 0.05) < dt / 2:\n        z[3] += 0.1\n    return z\n" % str(ROOT / "examples"))
+        "    if abs(T[0] - 0.05) < dt / 2:\n        z[3] += 0.1\n    return z\n")
     sim = StepFunction(f"{tmp_path / 'clocked.py'}:step")
     scene = variant(dataclasses.replace(load("box_slide"), duration=0.1), "semi_implicit_euler", 1e-3)
     first, second = trial(sim, scene), trial(sim, scene)
