@@ -12,6 +12,9 @@ and 10 n steps from the scene's end state and prints the cost ratio (10 = linear
 --against REV also times custom_sim as of git revision REV, in the same rounds: before and
 after in one run. --cold measures a first `run` on an empty numba cache instead: compile
 time and run time apart (with --against REV, that revision's checkout beside today's).
+--sim MODULE:FUNCTION also times the user's code, a whole run through the harness per timing
+(the integrator it declares, else the scene's), and prints a line per scene: ns per step beside
+custom_sim's and MuJoCo's, and the harness's own share per call.
 """
 from __future__ import annotations
 
@@ -44,12 +47,16 @@ def add_arguments(parser) -> None:
                         help="also time custom_sim as of this git revision, in the same rounds")
     parser.add_argument("--cold", action="store_true",
                         help="time a first `run` on an empty numba cache: compile and run apart")
+    from .sweep import add_simulator_arguments
+    add_simulator_arguments(parser)
 
 
 def main(args) -> int:
     scenes = load_all(args.scenes)
     if args.cold:
         return cold(args)
+    from .sweep import user_simulator
+    yours, scenes = user_simulator(args, scenes)
     from ..tools.accuracy.benchmark import bench_scene, custom_sim_at, linearity
 
     try:
@@ -57,14 +64,14 @@ def main(args) -> int:
     except ValueError as err:
         raise BadInput(str(err)) from None
     timing = {} if args.repeats is None else {"repeats": max(1, args.repeats)}
-    rows = []
+    rows, mine = [], []
     for scene in scenes:
         if args.integrator:
             scene = dataclasses.replace(scene, integrator=args.integrator)
         if not args.json:
             print(f"{scene.name} ...", file=sys.stderr, flush=True)
-        r = bench_scene(scene, before=before, **({} if args.rounds is None else {"rounds": max(1, args.rounds)}),
-                        **timing)
+        r = bench_scene(scene, before=before, yours=yours,
+                        **({} if args.rounds is None else {"rounds": max(1, args.rounds)}), **timing)
         row = r.as_dict()
         lin = linearity(scene, **timing) if args.linearity else None
         if lin is not None:
@@ -81,6 +88,8 @@ def main(args) -> int:
                      f"{r.integrator_custom}, {r.dt_custom:g}", f"{r.integrator_mujoco}, {r.dt_mujoco:g}, {r.mujoco_loop}",
                      *([f"{lin.custom_ratio:.2f}x (custom), {lin.mujoco_ratio:.2f}x (mujoco)"] if lin else []),
                      "" if r.ratio >= SPEED_GOAL else f"below the {SPEED_GOAL:g}x goal"])
+        if yours is not None:
+            mine.append(yours_line(r))
     if not args.json:
         figures = ["custom ns/step", "minimal loop", "mujoco ns/step", "ratio", "wall ratio", "newton/step",
                    *(["before ns/step", "after/before"] if before else [])]
@@ -88,7 +97,23 @@ def main(args) -> int:
                  *(["10x steps cost"] if args.linearity else []), "note"]
         print(text(["scene", *figures, *words], rows,
                    align=["left", *["right"] * len(figures), *["left"] * len(words)]))
+        for line in mine:
+            print(line)
     return 0
+
+
+def yours_line(r) -> str:
+    """The user's step on one scene: ns per step beside custom_sim's and MuJoCo's, the harness's share."""
+    line = (f"{r.name}: yours ({r.yours}, {r.integrator_yours}, dt {r.dt_custom:g}): "
+            f"{r.ns_per_step_yours:.0f} ns/step, {r.ns_per_step_yours / r.ns_per_step_custom:.0f}x custom_sim's "
+            f"{r.ns_per_step_custom:.1f}, {r.ns_per_step_yours / r.ns_per_step_mujoco:.1f}x MuJoCo's "
+            f"{r.ns_per_step_mujoco:.0f}")
+    if r.ns_per_call_harness is not None:
+        line += (f"; the harness's own share {r.ns_per_call_harness:.0f} ns per call "
+                 f"({r.ns_per_call_harness / r.ns_per_step_yours:.1%})")
+    else:
+        line += "; one call per run (the harness's share is the scene dict and the checks of the array)"
+    return line
 
 
 def cold(args) -> int:

@@ -76,6 +76,11 @@ class BenchResult:
     ns_per_step_before: float | None = None      # ours as of the revision given to bench_scene
     ns_per_step_before_wall: float | None = None
     ns_per_step_minimal: float | None = None     # the floor: one minimal compiled loop of the law (minimal_loop.py)
+    yours: str | None = None                     # the user's simulator (--sim), its spec
+    ns_per_step_yours: float | None = None       # its whole run through the harness, per step (CPU)
+    ns_per_step_yours_wall: float | None = None
+    integrator_yours: str | None = None
+    ns_per_call_harness: float | None = None     # of that, the harness's own loop per call (usersim/overhead.py)
 
     @property
     def ratio(self) -> float:
@@ -219,12 +224,33 @@ def mujoco_ns_per_step(scene: Scene, steps: int | None = None, integrator: str |
     return best[loop], loop
 
 
-def bench_scene(scene: Scene, rounds: int = ROUNDS, before=None, **timing) -> BenchResult:
+def yours_runner(sim, scene: Scene):
+    """A callable running the scene once with the user's simulator through the harness (a fresh
+    import, the scene dict, the checked loop: what `run` does), with the integrator it declares."""
+    from .yours import variant
+    sc = variant(scene, sim.integrator_for(scene), scene.dt)
+
+    def run():
+        sim.run(sc)
+    return run
+
+
+def harness_share(sim, scene: Scene) -> float | None:
+    """ns the harness adds per call of a step function (a no-op step in its loop against a bare
+    loop, compare/usersim/overhead.py); None for a simulator the harness does not call per step."""
+    if getattr(sim, "kind", "") != "step":
+        return None
+    from ...usersim.overhead import measure_overhead
+    return 1e9 * max(measure_overhead(scene, "array")["overhead_s_per_step"], 0.0)
+
+
+def bench_scene(scene: Scene, rounds: int = ROUNDS, before=None, yours=None, **timing) -> BenchResult:
     """Both simulators on one scene, in alternation in this process, `rounds` times; with
-    `before` (a module from custom_sim_at) that revision's stepper too, in the same rounds."""
+    `before` (a module from custom_sim_at) that revision's stepper too, in the same rounds; with
+    `yours` (a simulator from compare/usersim) the user's code too, a whole run per timing."""
     dt_mj = scene.mujoco.dt or scene.dt
     steps_mj = max(1, int(round(scene.duration / dt_mj)))
-    ours = theirs = old = Timing(np.inf, np.inf)
+    ours = theirs = old = user = Timing(np.inf, np.inf)
     loops = {}
     floor = np.inf
     for _ in range(max(1, rounds)):
@@ -235,6 +261,9 @@ def bench_scene(scene: Scene, rounds: int = ROUNDS, before=None, **timing) -> Be
         if before is not None:
             t = custom_ns_per_step(scene, stepper=before.Stepper, **timing)
             old = Timing(min(old.cpu, t.cpu), min(old.wall, t.wall))
+        if yours is not None:
+            t = min_time(yours_runner(yours, scene), **timing)
+            user = Timing(min(user.cpu, 1e9 * t.cpu / scene.steps), min(user.wall, 1e9 * t.wall / scene.steps))
         t, loop = mujoco_ns_per_step(scene, steps_mj, **timing)
         if t.cpu < theirs.cpu:
             loops["best"] = loop
@@ -245,7 +274,11 @@ def bench_scene(scene: Scene, rounds: int = ROUNDS, before=None, **timing) -> Be
                        newton_per_step=newton_per_step(scene),
                        ns_per_step_before=None if before is None else old.cpu,
                        ns_per_step_before_wall=None if before is None else old.wall,
-                       ns_per_step_minimal=None if floor == np.inf else floor)
+                       ns_per_step_minimal=None if floor == np.inf else floor,
+                       **({} if yours is None else
+                          {"yours": yours.label, "integrator_yours": yours.integrator_for(scene),
+                           "ns_per_step_yours": user.cpu if getattr(yours, "kind", "") in ("step", "whole") else user.wall,
+                           "ns_per_step_yours_wall": user.wall, "ns_per_call_harness": harness_share(yours, scene)}))
 
 
 @dataclass(frozen=True)

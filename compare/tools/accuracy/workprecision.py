@@ -91,6 +91,9 @@ class SceneSweep:
     runs: list[Run]
     mujoco_converged: dict
     stability: list = field(default_factory=list)
+    # the user's simulator (--sim), when given: {"label": its spec, "declared": whether its module
+    # names its integrator, "integrators": those it ran, "skipped": {integrator: why not}}
+    yours: dict = field(default_factory=dict)
 
     def of(self, simulator: str, integrator: str) -> list[Run]:
         return [r for r in self.runs if r.simulator == simulator and r.integrator == integrator]
@@ -302,8 +305,9 @@ def reference_task(scene: Scene, cache_dir: str | None) -> dict:
 # Orchestration
 
 
-def _task(kind: str, scene: Scene, integrator: str | None, ref: dict | None, cache_dir, ladders=None):
-    """One unit of work in a worker process."""
+def _task(kind: str, scene: Scene, integrator: str | None, ref: dict | None, cache_dir, ladders=None,
+          simulator=None):
+    """One unit of work in a worker process (simulator: the user's, for the "yours" kinds)."""
     ladders = ladders or {}
     if kind == "reference":
         return reference_task(scene, cache_dir)
@@ -321,28 +325,42 @@ def _task(kind: str, scene: Scene, integrator: str | None, ref: dict | None, cac
     if kind == "stability_mujoco":
         from .stability_search import mujoco_limit
         return mujoco_limit(scene, integrator, ref["energy_scale"])
+    if kind == "yours":
+        from .yours import yours_ladder
+        return yours_ladder(simulator, scene, integrator, ref["states"], ref["energy_scale"],
+                            ladders.get("yours", LADDER))
+    if kind == "stability_yours":
+        from .yours import yours_limit
+        return yours_limit(simulator, scene, integrator, ref["energy_scale"])
     raise ValueError(kind)
 
 
 # Rough relative cost of each kind of task, to start the long ones first.
-_WEIGHT = {"mujoco_converged": 40, "mujoco": 10, "custom": 5, "stability_mujoco": 3,
-           "stability_custom": 1}
+_WEIGHT = {"mujoco_converged": 40, "yours": 20, "mujoco": 10, "stability_yours": 8, "custom": 5,
+           "stability_mujoco": 3, "stability_custom": 1}
 
 
 def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: int | None = None,
               mujoco: bool = True, stability: bool = True, progress=None,
-              ladders: dict | None = None, scheduler: str | None = None) -> list[SceneSweep]:
+              ladders: dict | None = None, scheduler: str | None = None, simulator=None) -> list[SceneSweep]:
     """Measure every scene on the executor (compare/executor/): a local Dask cluster of `jobs`
     worker processes (a process pool when Dask is not installed), or the Dask cluster at
     `scheduler`; progress: show progress bars when given
     (any true value); ladders: {"custom": steps per grid interval, "mujoco": ...,
-    "mujoco_converged": n} to replace LADDER, MUJOCO_LADDER and MUJOCO_CONVERGED_N (shorter
-    runs in tests)."""
+    "mujoco_converged": n, "yours": ...} to replace LADDER, MUJOCO_LADDER and MUJOCO_CONVERGED_N
+    (shorter runs in tests); simulator: the user's (compare/usersim), run beside custom_sim and
+    MuJoCo with each integrator it does (tools/accuracy/yours.py), its runs and limits "yours"."""
     from ...executor import Task, make_executor
 
     cache = None if cache_dir is None else str(cache_dir)
-    tasks = []
+    tasks, theirs = [], {}
     for s in scenes:
+        if simulator is not None:
+            from .yours import integrators_of
+            theirs[s.name] = integrators_of(simulator, s)
+            tasks += [("yours", s, name) for name in theirs[s.name]]
+            if stability:
+                tasks += [("stability_yours", s, name) for name in theirs[s.name]]
         tasks += [("custom", s, name) for name in INTEGRATORS]
         if stability:
             tasks += [("stability_custom", s, name) for name in INTEGRATORS]
@@ -357,7 +375,8 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
         references = engine.run(_task, [Task(s.name, ("reference", s, None, None, cache)) for s in scenes],
                                 desc="references", progress=bool(progress))
         keyed = {f"{kind}-{s.name}-{integ}": (kind, s.name, integ) for kind, s, integ in tasks}
-        done = engine.run(_task, [Task(f"{kind}-{s.name}-{integ}", (kind, s, integ, references[s.name], cache, ladders))
+        done = engine.run(_task, [Task(f"{kind}-{s.name}-{integ}", (kind, s, integ, references[s.name], cache, ladders,
+                                                                    simulator if kind.endswith("yours") else None))
                                   for kind, s, integ in tasks], desc="sweep", progress=bool(progress))
     results = {keyed[key]: value for key, value in done.items()}
     out = []
@@ -379,7 +398,20 @@ def run_sweep(scenes: list[Scene], cache_dir: str | Path | None = None, jobs: in
             limits = [results[("stability_custom", s.name, i)] for i in INTEGRATORS]
             if mujoco:
                 limits += [results[("stability_mujoco", s.name, i)] for i in MUJOCO]
-        out.append(SceneSweep(s, ref, runs, conv, limits))
+        yours = {}
+        if simulator is not None:
+            yours = {"label": simulator.label, "declared": theirs[s.name] != list(INTEGRATORS),
+                     "integrators": [], "skipped": {}}
+            for integ in theirs[s.name]:
+                ladder, why = results[("yours", s.name, integ)]
+                if why:
+                    yours["skipped"][integ] = why
+                    continue
+                yours["integrators"].append(integ)
+                runs += ladder
+                if stability:
+                    limits.append(results[("stability_yours", s.name, integ)])
+        out.append(SceneSweep(s, ref, runs, conv, limits, yours))
     return out
 
 

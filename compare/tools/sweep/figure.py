@@ -1,5 +1,6 @@
 """<scene>_workprecision.png: max COM error (m) against the CPU time (s) of the run, against
-MuJoCo's own converged solution and against our reference, and |R(end)| (J) against dt (s).
+MuJoCo's own converged solution and against our reference, and |R(end)| (J) against dt (s); with
+--sim the user's code beside them (dotted, triangles).
 """
 from __future__ import annotations
 
@@ -8,7 +9,11 @@ from pathlib import Path
 
 from ..accuracy.workprecision import TARGET_ERROR
 from .residual import residual_order, roundoff_floor
-from .wording import LABELS
+from .wording import LABELS, SIMULATOR
+
+# each simulator's curves: ours solid with circles, MuJoCo dashed with squares, the user's dotted with triangles
+STYLE = {"custom": {"marker": "o", "linestyle": "-"}, "mujoco": {"marker": "s", "linestyle": "--"},
+         "yours": {"marker": "^", "linestyle": ":", "linewidth": 2.0}}
 
 COLORS = {"explicit_euler": "tab:red", "semi_implicit_euler": "tab:blue", "implicit_euler": "tab:green",
           "rk4": "tab:purple", "Euler": "tab:cyan", "RK4": "tab:pink", "implicit": "tab:olive",
@@ -22,10 +27,9 @@ def residual_panel(ax, sweep) -> None:
                if r.stable and math.isfinite(r.residual_end) and r.residual_end != 0.0]
         if pts:
             xs, ys = zip(*pts)
-            label = f"{'ours' if sim == 'custom' else 'MuJoCo'}: {LABELS.get(integ, integ)} " \
+            label = f"{SIMULATOR[sim]}: {LABELS.get(integ, integ)} " \
                     f"(order {residual_order(sweep.of(sim, integ), roundoff_floor(sweep)):.2f})"
-            ax.plot(xs, ys, marker="o" if sim == "custom" else "s", linestyle="-" if sim == "custom" else "--",
-                    color=COLORS.get(integ), markersize=4, label=label)
+            ax.plot(xs, ys, color=COLORS.get(integ), markersize=4, label=label, **STYLE[sim])
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("step dt (s)")
@@ -59,9 +63,8 @@ def plot_scene(sweep, path: Path) -> None:
             if not pts:
                 continue
             xs, ys, dts = zip(*pts)
-            style = dict(color=COLORS.get(integ), marker="o" if sim == "custom" else "s",
-                         linestyle="-" if sim == "custom" else "--", markersize=4)
-            label = f"ours: {LABELS.get(integ, integ)}" if sim == "custom" else f"MuJoCo: {integ}"
+            style = dict(color=COLORS.get(integ), markersize=4, **STYLE[sim])
+            label = f"{SIMULATOR[sim]}: {LABELS.get(integ, integ) if sim != 'mujoco' else integ}"
             ax.plot(xs, ys, label=label, **style)
             for x, y, dt in ((xs[0], ys[0], dts[0]), (xs[-1], ys[-1], dts[-1])):
                 ax.annotate(f"{dt:.0e}", (x, y), fontsize=6, xytext=(2, 2), textcoords="offset points",

@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ...oracle.reference import REFERENCE_RTOL
-from ...table import markdown
+from ...table import DASH, markdown
 from ..accuracy.stability_search import ENERGY_GROWTH_LIMIT, QUIET_CONTACT_SHARE
 from ..accuracy.workprecision import GRID, LADDER, MUJOCO_CONVERGED_N, MUJOCO_LADDER, RUN_BUDGET
 from .answer import answer
@@ -15,6 +15,7 @@ from .cheapest import cheapest_table
 from .residual import residual_rows
 from .stability import stability_section
 from .wording import num
+from .yours import yours_section
 
 
 def write_index(results, path: Path, runtime: float, jobs: int) -> Path:
@@ -92,10 +93,12 @@ def scene_section(sweep) -> list[str]:
     lines += ["", "**Energy the numerics made or lost** (R(end) = E(end) - E(0) + W, docs/energy-balance.md):", "",
               *residual_rows(sweep)]
     lines += ["", f"**Cheapest way to 1 mm:** {answer(sweep)}", ""]
+    lines += yours_section(sweep)
     rows = [[r.simulator, r.integrator, f"{r.dt:g}", *map(num, (r.error_max, r.error_l2, r.angle_error_max,
                                                                   r.error_max_self, r.residual_end, r.cpu_time,
                                                                   r.wall_time)),
-             str(r.force_evals), "" if r.stable else "unstable: " + r.note] for r in sweep.runs]
+             DASH if r.force_evals is None else str(r.force_evals), "" if r.stable else "unstable: " + r.note]
+            for r in sweep.runs]
     lines += markdown(["simulator", "integrator", "dt (s)", "max error (m)", "RMS error (m)", "max angle error (rad)",
                        "MuJoCo vs own converged, max (m)", "R(end) (J)", "CPU time (s)", "wall time (s)",
                        "force evaluations", "note"], rows).splitlines()

@@ -11,7 +11,7 @@ import numpy as np
 from scene_types.integrators import ORDER
 
 from ...table import DASH, markdown
-from .wording import num
+from .wording import SIMULATOR, num
 
 # R(end) shrinks with dt at the integrator's order (ORDER), away from contact events
 ORDER_SLACK = 0.3   # a fitted slope this far below the order means something lowers it
@@ -56,7 +56,7 @@ def residual_rows(sweep) -> list[str]:
             note = (f"lowered by the contact events ({switches} switches of the reference): a step across a switch "
                     "integrates the force's jump or kink at first or second order" if switches else
                     "lower than expected without a contact event")
-        rows.append(["ours" if sim == "custom" else "MuJoCo", integ, values or DASH, num(order, decimals=2),
+        rows.append([SIMULATOR[sim], integ, values or DASH, num(order, decimals=2),
                      expected or DASH, note])
     return markdown(["simulator", "integrator", "R(end) at each dt (J)", "measured order", "expected", "note"],
                     rows).splitlines() + [""]

@@ -1,12 +1,15 @@
 """results.json: the sweep as numbers, per scene its reference, MuJoCo's converged solution, every
-run (m, rad, s, J) and every stability limit (s), with the answer in words beside them."""
+run (m, rad, s, J), every stability limit (s) and each integrator's fitted order, with the answer in
+words beside them (and, with --sim, what it says of the user's code: "yours")."""
 from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
 
 from ...report.atomic import finite_json
+from ..accuracy.orders import orders
 from .answer import answer
+from .yours import yours_lines
 
 
 def write_json(results, path: Path, runtime: float, jobs: int) -> None:
@@ -20,5 +23,7 @@ def write_json(results, path: Path, runtime: float, jobs: int) -> None:
             "cheapest_to_1mm": answer(sweep),
             "runs": [r.as_dict() for r in sweep.runs],
             "stability": [dataclasses.asdict(lim) for lim in sweep.stability],
+            "orders": orders(sweep),
+            **({"yours": {**sweep.yours, "lines": yours_lines(sweep)}} if sweep.yours else {}),
         })
     path.write_text(finite_json(doc, indent=1))

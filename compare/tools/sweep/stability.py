@@ -22,13 +22,18 @@ def stability_rows(sweep) -> list[list[str]]:
     """One row per limit the sweep measured on the scene (STABILITY_HEADERS)."""
     rows = []
     for lim in sweep.stability:
-        if lim.simulator == "custom":
-            th = theory(sweep.scene, lim.integrator)
+        if lim.simulator in ("custom", "yours"):
+            if lim.integrator not in LABELS:   # "other:NAME": no theory of the harness's
+                th = dict.fromkeys(("spring", "spring_point", "friction", "combined"), math.nan)
+            else:
+                th = theory(sweep.scene, lim.integrator)
         else:  # MuJoCo's Euler is semi-implicit; implicit(fast) integrate contact explicitly too
             th = theory(sweep.scene, "rk4" if lim.integrator == "RK4" else "semi_implicit_euler")
         spring = th["spring"]
         ratio = lim.h_max / spring if math.isfinite(spring) and spring > 0 else math.nan
-        name = LABELS.get(lim.integrator, lim.integrator) if lim.simulator == "custom" else f"MuJoCo {lim.integrator}"
+        name = (LABELS.get(lim.integrator, lim.integrator) if lim.simulator == "custom" else
+                f"yours: {LABELS.get(lim.integrator, lim.integrator)}" if lim.simulator == "yours" else
+                f"MuJoCo {lim.integrator}")
         why = lim.reason or ("stable up to the largest step tried" if lim.capped else "")
         rows.append([sweep.scene.name, name, lim.text(), *map(num, (lim.first_threshold, spring, th["spring_point"],
                                                                     th["friction"], th["combined"])),

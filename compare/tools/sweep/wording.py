@@ -20,7 +20,12 @@ def mm(metres: float) -> str:
 
 
 def name(run) -> str:
+    if run.simulator == "yours":
+        return f"yours: {LABELS.get(run.integrator, run.integrator)}"
     return LABELS.get(run.integrator, run.integrator) if run.simulator == "custom" else f"MuJoCo {run.integrator}"
+
+
+SIMULATOR = {"custom": "ours", "mujoco": "MuJoCo", "yours": "yours"}   # how the tables name each
 
 
 def timing(run) -> str:
@@ -30,6 +35,8 @@ def timing(run) -> str:
 
 
 def cost(run) -> str:
+    if run.force_evals is None:   # the user's code counts none
+        return f"{run.steps} steps"
     return f"{run.force_evals} force evaluations ({run.steps} steps)"
 
 
