@@ -53,6 +53,8 @@ def add_simulator_arguments(parser) -> None:
     user.add_argument("--sim", metavar="MODULE:FUNCTION",
                       help="a step function step(state, scene, dt) -> state; run with each integrator custom_sim "
                            "has (as scene[\"integrator\"]), or only the one its module names in INTEGRATOR")
+    user.add_argument("--sim-process", metavar="COMMAND",
+                      help="a step in any language on stdin/stdout (docs/process-protocol.md), in place of --sim")
     user.add_argument("--whole", action="store_true",
                       help="with --sim: FUNCTION is simulate(scene) -> array (steps + 1, 6); scene[\"dt\"] is "
                            "each rung's step")

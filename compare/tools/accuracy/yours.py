@@ -49,7 +49,6 @@ from .workprecision import (
 )
 
 YOURS = "yours"          # the simulator's name in the runs, the limits and results.json
-SKIPPED = "NotImplementedError"   # what a user's code raises for an integrator (or scene) it does not do
 # The stability search's finest step for the user's code: a run of at most this many steps (a
 # Python step of 10-100 us makes it 2-20 s); custom_sim's compiled search goes to MIN_STEP.
 MAX_STEPS = 200_000
@@ -70,35 +69,38 @@ def variant(scene: Scene, integrator: str, dt: float) -> Scene:
 
 @dataclass(frozen=True)
 class Trial:
-    """One run of the user's code: states (steps + 1, 6), or None with `fault` (its one line);
-    cpu and wall time (s) of the call, from the fresh import to the last state. A wrong return met
-    after the first steps (the commands probe those) is kept as a fault too: the run's note names it."""
+    """One run of the user's code: states (steps + 1, 6), or None with `fault` (its one line)
+    or `skip` (why the code does not do this integrator or scene: NotImplementedError, SHAPES, a
+    process's skip); cpu and wall time (s) of the call, from the fresh import to the last state. A
+    wrong return met after the first steps (the commands probe those) is kept as a fault too: the
+    run's note names it."""
 
     states: np.ndarray | None
     fault: str
     cpu: float
     wall: float
+    skip: str = ""
 
     @property
     def skipped(self) -> bool:
-        """The code said it does not do this (raised NotImplementedError)."""
-        return f"raised {SKIPPED}" in self.fault
+        return bool(self.skip)
 
     @property
     def reason(self) -> str:
-        """What the code said when it declined: 'NotImplementedError: its message'."""
-        said = self.fault.split(f"raised {SKIPPED}", 1)[-1].rsplit(" (expected", 1)[0]
-        return SKIPPED + said
+        """What the code said when it declined."""
+        return self.skip
 
 
 def trial(sim, scene: Scene) -> Trial:
     """sim.run(scene), timed; a fault of the user's run (UserFault) is kept as its line. The CPU
     time is this thread's: for a simulator in another process it is its wall time."""
-    from ...usersim.errors import UserCodeError, UserFault
+    from ...usersim.errors import SceneSkipped, UserCodeError, UserFault
 
     w0, c0 = time.perf_counter(), time.thread_time()
     try:
         run = sim.run(scene)
+    except SceneSkipped as exc:
+        return Trial(None, "", math.nan, math.nan, skip=exc.reason)
     except (UserFault, UserCodeError) as exc:
         return Trial(None, str(exc).splitlines()[0], math.nan, math.nan)
     cpu, wall = time.thread_time() - c0, time.perf_counter() - w0
