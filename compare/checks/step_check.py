@@ -95,7 +95,7 @@ def step_residuals(eq: Equations, states: np.ndarray, integrator: str, dt: float
 
 
 def _point_name(eq: Equations, i: int) -> str:
-    lx, ly = eq.points[i]
+    lx, ly = (v + 0.0 for v in eq.points[i])   # + 0.0: a -0.0 (a point at the centre) says 0, not -0
     return f"{i} ({lx:+.3g}, {ly:+.3g})"
 
 
