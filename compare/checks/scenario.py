@@ -348,7 +348,8 @@ def contact_row(case: Case, simulator, under_test: Trajectory | None = None) -> 
                           "give (bring a step function)")
     variant = contact_scene(scene)
     if variant == scene:
-        return check_contact(scene, under_test.states(), integrator, case=case)
+        return _told_applied(check_contact(scene, under_test.states(), integrator, case=case), scene,
+                             under_test.states())
     if scene.contact.damping_law not in LINEAR_KIN:
         return not_judged(integrator, f"MuJoCo's own contact is a spring-damper that damps both ways and never pulls "
                           f"(the linear law), and this check runs your code on the scene with that law; the law "
@@ -363,7 +364,19 @@ def contact_row(case: Case, simulator, under_test: Trajectory | None = None) -> 
     except (UserFault, UserCodeError) as exc:
         return not_judged(integrator, f"your simulator did not run the variant this check needs (friction and rolling "
                           f"resistance off, the linear damping law): {exc}")
-    return check_contact(scene, states, integrator, case=case)
+    return _told_applied(check_contact(scene, states, integrator, case=case), variant, states)
+
+
+def _told_applied(row: CheckRow, variant: Scene, states) -> CheckRow:
+    """The contact row, told where the user's run of the friction-off variant changed vx (a
+    horizontal force that variant does not have: friction applied though it is off)."""
+    from .contact_check import horizontal_force
+
+    applied = horizontal_force(variant, states)
+    if applied is None:
+        return row
+    return dataclasses.replace(row, reason=f"{applied['text']}. {row.reason}",
+                               details={**row.details, "horizontal_force": applied})
 
 
 def reference_rows(case: Case, tested: dict, runs: dict,

@@ -23,6 +23,8 @@ def failure_text(check) -> str:
         parts.append(f"angle {ang:.3e} rad (tolerance {tol_a:.3e} rad)")
     if d.get("component_first_over") and d.get("first_step_over") is not None:
         parts.append(f"first at step {d['first_step_over']}, in {d['component_first_over']}")
+    if d.get("horizontal_force"):
+        parts.append(f"your step applied a horizontal force with friction off (step {d['horizontal_force']['step']})")
     if not parts:   # failed on something else (a non-finite state, ...): its reason says what
         parts.append(check.reason or f"position {_number(pos, 'm')}, angle {_number(ang, 'rad')}")
     return f"{label}: " + ", ".join(parts)
