@@ -110,11 +110,14 @@ def _run(args) -> int:
         print(verdict_line(r))
         for law in (r.get("diagnosis") or {}).get("laws") or []:
             print(f"{'':<20} law   {law['text']}")
-    for text in written.details:
-        print(text, file=sys.stderr)
-    for name, status, why in failed:
+    traces = dict(written.details)
+    for name, status, why in failed:   # each once, with its scene, and its traceback below it
         print(f"{name:<20} {status}: {why}")
-        print(f"error: {why}", file=sys.stderr)
+        if name in traces:
+            sys.stdout.flush()
+            print(f"{name}: " + traces.pop(name), file=sys.stderr)
+    for name, text in traces.items():   # raised inside a scene that still reached a verdict
+        print(f"{name}: {text}", file=sys.stderr)
     print(cache_line(rows), file=sys.stderr)
     if failed or any(r.get("cache", {}).get("misses") for r in rows):   # the cache may have grown
         from ..store import trim
