@@ -186,9 +186,9 @@ def identical_row(case: Case, run: Trajectory) -> CheckRow:
 
 
 def step_rows(result: Result, case: Case, tested: dict) -> list[CheckRow]:
-    """Check step, for each run under test (its per-step position residuals kept for the plots,
-    in result.residuals, not in the row)."""
-    from .step_check import check_step
+    """Check step, for each run under test (its residuals per component and their round-off
+    kept for the plots as a StepTrace, in result.residuals, not in the row)."""
+    from .step_check import check_step, step_trace
 
     scene, rows = case.scene, []
     for name, run in tested.items():
@@ -198,9 +198,9 @@ def step_rows(result: Result, case: Case, tested: dict) -> list[CheckRow]:
         # states read from a text file carry their rounding (fixed decimals or significant digits)
         row = check_step(scene, run.states(), name, scene.dt, rounding=run.meta.get("rounding"),
                          equations=case.equations)
-        r = row.residual
-        result.residuals[name] = None if r is None else np.hypot(r[:, 0], r[:, 1])
-        rows.append(dataclasses.replace(row, residual=None))
+        r, b = row.residual, row.bound
+        result.residuals[name] = None if r is None or b is None or not len(r) else step_trace(r, b)
+        rows.append(dataclasses.replace(row, residual=None, bound=None))
     return rows
 
 

@@ -61,7 +61,7 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
             "error": lambda: plots.error(scene, diffs, tmp / "error.png"),
             "energy": lambda: plots.energy(scene, result.balances, tmp / "energy.png"),
             "snapshots": lambda: plots.snapshots(scene, tested, twin, tmp / "snapshots.png"),
-            "residuals": lambda: plots.step_residuals(scene, result.residuals, result.checks, tmp / "residuals.png"),
+            "residuals": lambda: plots.step_residuals(scene, result.residuals, tmp / "residuals.png"),
         }, result.warnings)   # a figure that fails adds a warning (data["warnings"] is that list)
         # a non-finite number (a user's 1e308 states make errors inf) is written as null and
         # listed under "non_finite": never NaN or Infinity, which is not JSON, and never a crash
