@@ -60,6 +60,41 @@ def law_differences(scene: Scene, t: np.ndarray, states: np.ndarray) -> list[dic
     return rows
 
 
+# The parameters' units, for the words
+UNITS = {"k": "N/m", "c": "N s/m", "dissipation": "s/m", "alpha": "s/m", "mu": "", "mu_roll": "m",
+         "roll_sharpness": "s/rad"}
+
+
+def _value(name: str, value) -> str:
+    unit = UNITS.get(name, "")
+    return f"{name} {value:.3g}" + (f" {unit}" if unit else "") if isinstance(value, (int, float)) else f"{name} {value}"
+
+
+def judged_law_words(law: dict) -> str | None:
+    """What metrics.json's `law` block says in one clause, for the run line and index.md: None
+    where the scene's own law was judged; else 'the identified law: friction smooth_coulomb mu
+    0.4, the scene asks tanh mu 0.5' (each effect that differs, its family and every parameter
+    that differs), or 'the identified law, the scene's own on every effect'."""
+    if not law or law.get("from", "scene") == "scene" or "scene" not in law:
+        return None
+    source = "the identified law" if law["from"] == "identified" else f"the law of {law['from']}"
+    judged, asked = law["judged"], law["scene"]
+    said = []
+    for d in law.get("differences") or []:
+        family, *params = EFFECT_FIELDS[d["effect"]]
+        differ = [p for p in params if _value(p, judged[p]) != _value(p, asked[p])]   # as printed
+        mine = [judged[family]] + [_value(p, judged[p]) for p in differ]
+        theirs = [asked[family]] + [_value(p, asked[p]) for p in differ]
+        said.append(f"{d['effect']} {' '.join(mine)}, the scene asks {' '.join(theirs)}")
+    return f"{source}: " + "; ".join(said) if said else f"{source}, the scene's own on every effect"
+
+
+def _component(value: float, scale: float) -> str:
+    """A force component of a difference, 0 where it is below SAME_LAW of the difference's size
+    (never a number of round-off, never -0)."""
+    return "0" if abs(value) <= SAME_LAW * scale else f"{value:+.3g}"
+
+
 def law_lines(scene: Scene, differences: list[dict]) -> list[str]:
     """The page's opening lines on the law: the one judged beside the scene's, and each effect
     that differs with its difference at a named moment."""
@@ -71,8 +106,9 @@ def law_lines(scene: Scene, differences: list[dict]) -> list[str]:
         lines += ["The two laws agree on every effect this scene has.", ""]
     for d in differences:
         fx, fy, tau = d["force"]
+        big = d["largest"]
         what = (f"torque {tau:+.3g} N m" if d["effect"] == "rolling"
-                else f"force ({fx:+.3g}, {fy:+.3g}) N, torque {tau:+.3g} N m")
+                else f"force ({_component(fx, big)}, {_component(fy, big)}) N, torque {_component(tau, big)} N m")
         lines.append(f"- **{d['effect']}** differs: at step {d['step']} (t = {d['t']:.6g} s) the judged law "
                      f"gives {what} more than the scene's ({d['largest']:.3g} {d['unit']}, the largest over the run).")
     lines.append("")

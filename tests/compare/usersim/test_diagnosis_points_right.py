@@ -112,3 +112,48 @@ def test_the_bug_free_copy_gets_nothing_named(scene):
 def _sd(scene):
     from compare.usersim.scene_dict import scene_dict
     return scene_dict(scene)
+
+
+# The newcomer's buggy step under a Hunt-Crossley dissipation of its own (4 s/m, the scene's 2):
+# two faults at once, one the torque (no inertia reproduces it), one the normal force's law.
+OTHER_DISSIPATION = f'''
+import importlib.util
+_spec = importlib.util.spec_from_file_location("hc_box_source", {str(OUTSIDER)!r})
+_hc = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_hc)
+
+
+def step(state, scene, dt):
+    return _hc.step(state, {{**scene, "contact": {{**scene["contact"], "dissipation": 4.0}}}}, dt)
+'''
+
+
+def test_an_effect_is_named_where_its_reading_does_not_rest_on_what_failed(scene, tmp_path):
+    """Before: no law at all, since the body (the torques) failed; the normal force is read from
+    vy at the points where contact acts, which the torque does not enter."""
+    from compare.usersim.law_diagnosis import law_findings
+
+    path = tmp_path / "hc_other.py"
+    path.write_text(OTHER_DISSIPATION)
+    sim = load_simulator(f"{path}:step")
+    found = law_findings(sim, scene, None)
+    assert [f["effect"] for f in found] == ["normal"], found
+    assert found[0]["law"] == "hunt_crossley" and "dissipation 4 s/m" in found[0]["text"], found[0]["text"]
+
+
+def test_an_effect_whose_reading_rests_on_what_failed_is_not_read():
+    """Synthetic identify answers: the contact points wrong leave nothing read; the inertia wrong
+    leaves the normal force and friction read, the rolling resistance not."""
+    from compare.usersim.law_diagnosis import findings
+
+    scene = load("rolling_circle")
+    entry = {"exercised": True, "law": "tanh", "mu": 0.3, "alpha": 100.0, "mu_roll": 0.01, "roll_sharpness": 10.0}
+    result = {"integrator": {"name": scene.integrator}, "body": {"points_match": True},
+              "matches_scene": {"integrator": True, "gravity": True, "normal": True, "friction": False,
+                                "rolling": False, "body": False},
+              "friction": entry, "rolling": {**entry, "law": "tanh"}}
+    out = {f["effect"]: f for f in findings(result, scene, scene.integrator)}
+    assert out["friction"]["law"] == "tanh" and "mu 0.3" in out["friction"]["text"]
+    assert out["rolling"].get("unread") and "inertia" in out["rolling"]["text"]
+    result["body"]["points_match"] = False
+    assert all(f.get("unread") for f in findings(result, scene, scene.integrator))
