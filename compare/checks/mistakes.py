@@ -369,6 +369,7 @@ def force_difference(eq: Equations, z0, dz, dt: float, over=None) -> dict:
     if not said:
         out["text"] = ("no force: your velocities agree with the reference's to round-off, only the positions "
                        "differ (the position update)")
+        out["none"] = True
         return out
     text = ", ".join(said)
     if torque is not None and over[5] and not (over[3] or over[4]) and touching.size:
@@ -396,6 +397,11 @@ def force_difference(eq: Equations, z0, dz, dt: float, over=None) -> dict:
         text += " with no point touching"
     out["text"] = text
     return out
+
+
+def force_clause(force: dict) -> str:
+    """'a force of Fx +1 N at point 0 ...', or 'no force: ...' where the velocities agree."""
+    return force["text"] if force.get("none") else f"a force of {force['text']}"
 
 
 def _acting_words(touching) -> str:
@@ -717,6 +723,6 @@ def diagnose_step(step_fn, scene, moments, integrator: str | None = None, dt: fl
     out["not_named"] = [{"name": x["name"], "steps_off": x["of"] - x["reproduces"], "steps": x["of"],
                          "not_at": x["not_at"]} for x in near]
     out["verdict"] = (f"disagrees at {where}; no catalogued mistake (nor pair) explains every moment to "
-                      f"round-off: at {first['name']} your step is off by {off_text(first)}, a force of "
-                      f"{first['force']['text']}")
+                      f"round-off: at {first['name']} your step is off by {off_text(first)}: "
+                      f"{force_clause(first['force'])}")
     return out

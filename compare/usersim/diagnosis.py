@@ -173,7 +173,7 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
         if force:
             at = (f"at {force['where']} (step {force['step']}, t = {force['time']:.6g} s)"
                   if "step" in force and force["where"] != f"step {force['step']}" else f"at {force['where']}")
-            parts.append(f"{at} your step is off by {force['off']}: a force of {force['text']}")
+            parts.append(f"{at} your step is off by {force['off']}: {mistakes.force_clause(force)}")
         if step_row.passed is False:
             parts.append("your trajectory: " + _trajectory_where(step_row))
         verdict = "no catalogued mistake explains the residual to round-off: " + "; ".join(parts)
@@ -181,8 +181,9 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
         leads += [law_verdict(laws)] if laws else []
         leads += [torque_finding(moments, traj.get("force"))]
     gain = energy_gain(scene, states, integrator, rounding, case) if step_row.passed is False or disagree else None
-    leads += [gain["text"]] if gain else []
     said = [*(x for x in leads if x), verdict]
+    if gain:   # a symptom: after a mistake named, before what is left unexplained
+        said.insert(len(said) - (0 if named else 1), gain["text"])
     verdict = ". ".join([said[0], *map(_capital, said[1:])])
     return {"integrator": integrator, "moments": moments, "trajectory": {**traj, "step": step_row.to_json()},
             "named": named, "not_named": not_named, "force": force, "verdict": verdict, "laws": laws,
@@ -297,5 +298,5 @@ def render_markdown(diag: dict, heading: bool = True) -> str:
         lines += ["Catalogued mistakes stepped over the whole trajectory:", ""]
         lines += _table(["mistake", "explains", "first step off", "largest residual / round-off"],
                         [[f"`{x['name']}`", "yes" if x["explains"] else "no", _num(x.get("first_step")),
-                          _num(x.get("ratio_max"))] for x in tried])
+                          _ratio(x.get("ratio_max"))] for x in tried])
     return "\n".join(lines)
