@@ -7,6 +7,7 @@ import dataclasses
 import numpy as np
 
 from scene_types import Scene, law_text
+from scene_types.laws import LAW_PARAMETERS
 
 # each effect of the law and the [contact] fields that make it
 EFFECT_FIELDS = {
@@ -70,6 +71,15 @@ def _value(name: str, value) -> str:
     return f"{name} {value:.3g}" + (f" {unit}" if unit else "") if isinstance(value, (int, float)) else f"{name} {value}"
 
 
+def _side(family: str, shared: str, side: dict, against: dict) -> str:
+    """One side's family and its parameters that differ from the other side's as printed: the
+    shared one (k, mu, mu_roll) and the family's own, never one the family does not take (c
+    under hunt_crossley)."""
+    own = LAW_PARAMETERS[family].get(side[family], ())
+    shown = [p for p in (shared, *own) if _value(p, side[p]) != _value(p, against[p])]
+    return " ".join([side[family], *(_value(p, side[p]) for p in shown)])
+
+
 def judged_law_words(law: dict) -> str | None:
     """What metrics.json's `law` block says in one clause, for the run line and index.md: None
     where the scene's own law was judged; else 'the identified law: friction smooth_coulomb mu
@@ -79,14 +89,12 @@ def judged_law_words(law: dict) -> str | None:
         return None
     source = "the identified law" if law["from"] == "identified" else f"the law of {law['from']}"
     judged, asked = law["judged"], law["scene"]
-    said = []
+    words = []
     for d in law.get("differences") or []:
-        family, *params = EFFECT_FIELDS[d["effect"]]
-        differ = [p for p in params if _value(p, judged[p]) != _value(p, asked[p])]   # as printed
-        mine = [judged[family]] + [_value(p, judged[p]) for p in differ]
-        theirs = [asked[family]] + [_value(p, asked[p]) for p in differ]
-        said.append(f"{d['effect']} {' '.join(mine)}, the scene asks {' '.join(theirs)}")
-    return f"{source}: " + "; ".join(said) if said else f"{source}, the scene's own on every effect"
+        family, shared = EFFECT_FIELDS[d["effect"]][:2]
+        mine, theirs = _side(family, shared, judged, asked), _side(family, shared, asked, judged)
+        words.append(f"{d['effect']} {mine}, the scene asks {theirs}")
+    return f"{source}: " + "; ".join(words) if words else f"{source}, the scene's own on every effect"
 
 
 def _component(value: float, scale: float) -> str:

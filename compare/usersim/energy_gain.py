@@ -1,5 +1,5 @@
 """Energy as a symptom: a user's run that gains energy where custom_sim, under the same law and
-integrator, loses it (PHYSICS.md, Energy balance): some force of the user's does positive work."""
+integrator, loses it (docs/energy-balance.md): some force of the user's does positive work."""
 from __future__ import annotations
 
 import numpy as np

@@ -70,3 +70,13 @@ def test_the_pages_law_lines_print_no_component_of_round_off():
                                 "largest": 1.25, "unit": "N"}])
     text = "\n".join(lines)
     assert "force (+1.25, 0) N, torque 0 N m" in text and "-0" not in text and "e-319" not in text
+
+
+def test_a_parameter_the_family_does_not_take_is_not_said():
+    """Hunt-Crossley takes no c, the linear law no dissipation: 'hunt_crossley dissipation 2 s/m,
+    the scene asks linear c 20 N s/m', not 'c 0 N s/m dissipation 2 s/m'."""
+    law = {"from": "laws/hc.toml", "differences": [{"effect": "normal"}],
+           "judged": _contact(**SCENE_FRICTION, damping_law="hunt_crossley", c=0.0, dissipation=2.0),
+           "scene": _contact(**SCENE_FRICTION)}
+    assert judged_law_words(law) == ("the law of laws/hc.toml: normal hunt_crossley dissipation 2 s/m, "
+                                     "the scene asks linear c 20 N s/m")
