@@ -17,8 +17,10 @@ force that makes it, m dv / dt and I domega / dt, at the points touching.
 
 Neither guesses: a catalogued mistake is named only where it reproduces every probed step (every
 chosen moment and every step of the trajectory) to round-off; one that explains all but some
-steps is kept in the dict (not_named) and never printed: a partial match points the wrong way. Where none explains the residual to round-off, it says
-so and shows the residual, in its units and in newtons.
+steps is kept in the dict (not_named) and never printed: a partial match points the wrong way.
+Where none explains the residual to round-off, it says so and shows the residual, in its units
+and in newtons (a component within round-off shows none), a torque read as the part of the
+contact torque it is (mistakes.read_torque), and a run that gains energy (energy_gain.py).
 """
 from __future__ import annotations
 
@@ -35,6 +37,7 @@ from .errors import UserCodeError, UserFault
 from .law_diagnosis import law_findings, law_verdict
 from .moments import not_probed, pick_moments
 from .scene_dict import scene_dict
+
 
 def _moments(simulator, scene: Scene, integrator: str, also=(), case=None) -> dict:
     """The user's step from custom_sim's states at the chosen moments, in time order; `also`:
@@ -268,7 +271,8 @@ def render_markdown(diag: dict, heading: bool = True) -> str:
     forces = _force_rows(diag)
     if forces:
         lines += ["Your step minus the reference step, as the force that makes it (m dv / dt, I domega / dt; "
-                  f"dt = {_num(forces[0][1]['dt'])} s, m = {_num(forces[0][1]['mass'])} kg):", ""]
+                  f"dt = {_num(forces[0][1]['dt'])} s, m = {_num(forces[0][1]['mass'])} kg; empty: that velocity "
+                  "agrees to round-off):", ""]
         lines += _table(["where", "off by", "Fx (N)", "Fy (N)", "torque (N m)", "acting at"],
                         [[where, f.get("off", ""), _num(f["Fx"]), _num(f["Fy"]), _num(f["torque"]),
                           _acting_at(f)] for where, f in forces])
