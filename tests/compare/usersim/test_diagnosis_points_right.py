@@ -9,6 +9,7 @@ seed's step with Hunt-Crossley and smooth Coulomb, correct except the friction t
 """
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -157,3 +158,18 @@ def test_an_effect_whose_reading_rests_on_what_failed_is_not_read():
     assert out["rolling"].get("unread") and "inertia" in out["rolling"]["text"]
     result["body"]["points_match"] = False
     assert all(f.get("unread") for f in findings(result, scene, scene.integrator))
+
+
+def test_no_minus_zero_and_no_infinite_ratio_in_the_words():
+    """Before: 'contact at point 0 (+0, -0)' for a point touching at its centre, and a residual
+    over a round-off of 0 (a point mass's theta) shown as 1e+300 round-offs."""
+    import numpy as np
+
+    from compare.checks.step_check import _point_name
+    from compare.oracle.reference import Equations
+    from compare.usersim.diagnosis import _ratio
+
+    scene = load("elastic_bounce")
+    eq = dataclasses.replace(Equations.from_scene(scene), points=((0.0, -0.0),))
+    assert _point_name(eq, 0) == "0 (+0, +0)"
+    assert _ratio(float(np.float64(1e300))) == "any (round-off 0)" and _ratio(2.5) == "2.5"
