@@ -14,7 +14,7 @@ class Judgement:
     """The judgement of a simulator on some scenes (compare.judge), in the order `run` prints."""
 
     scenes: tuple[SceneJudgement, ...]
-    details: tuple[str, ...] = ()     # the user's own tracebacks, where their code raised
+    details: tuple[tuple[str, str], ...] = ()   # (scene, the user's own traceback) where their code raised
     report: Path | None = None        # index.md of the report written (judge(out=...)), else None
 
     @property

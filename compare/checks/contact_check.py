@@ -64,6 +64,30 @@ def contact_scene(scene: Scene) -> Scene:
                                contact=dataclasses.replace(scene.contact, damping_law="linear"))
 
 
+# In the friction-off variant no horizontal force acts (the normal force and gravity are
+# vertical): every integrator keeps vx exactly (vx + h * 0). A change beyond a few ulps of vx is
+# a horizontal force of the step's own.
+FRICTION_OFF_ULPS = 4.0
+
+
+def horizontal_force(scene: Scene, states: np.ndarray) -> dict | None:
+    """Where a run states (steps + 1, 6) of contact_scene(scene) changes vx, which no force of
+    that variant does: {step, time, dvx (m/s), force (N, m dvx / dt), text}; else None."""
+    vx = np.asarray(states, dtype=float)[:, 3]
+    dvx = np.diff(vx)
+    bound = FRICTION_OFF_ULPS * np.finfo(float).eps * np.maximum(np.abs(vx[:-1]), np.abs(vx[1:]))
+    off = np.flatnonzero(np.abs(dvx) > bound)
+    if not off.size:
+        return None
+    i = int(off[0])
+    force = scene.body.mass * dvx[i] / scene.dt
+    return {"step": i + 1, "time": (i + 1) * scene.dt, "dvx": float(dvx[i]), "force": float(force),
+            "text": (f"your step applied a horizontal force in this friction-off variant (effects "
+                     f"{', '.join(scene.effects)}): vx changed by {dvx[i]:+.3g} m/s at step {i + 1} "
+                     f"(t = {(i + 1) * scene.dt:.6g} s), a force of {force:+.3g} N where none acts (does "
+                     "it read scene['effects']?)")}
+
+
 def converged(scene: Scene, t: np.ndarray) -> np.ndarray:
     """The scene's model solved to convergence (the reference), at times t (s): (len(t), 6)."""
     from ..oracle.reference import solve_reference

@@ -7,6 +7,7 @@ import dataclasses
 import numpy as np
 
 from scene_types import Scene, law_text
+from scene_types.laws import LAW_PARAMETERS
 
 # each effect of the law and the [contact] fields that make it
 EFFECT_FIELDS = {
@@ -60,6 +61,48 @@ def law_differences(scene: Scene, t: np.ndarray, states: np.ndarray) -> list[dic
     return rows
 
 
+# The parameters' units, for the words
+UNITS = {"k": "N/m", "c": "N s/m", "dissipation": "s/m", "alpha": "s/m", "mu": "", "mu_roll": "m",
+         "roll_sharpness": "s/rad"}
+
+
+def _value(name: str, value) -> str:
+    unit = UNITS.get(name, "")
+    return f"{name} {value:.3g}" + (f" {unit}" if unit else "") if isinstance(value, (int, float)) else f"{name} {value}"
+
+
+def _side(family: str, shared: str, side: dict, against: dict) -> str:
+    """One side's family and its parameters that differ from the other side's as printed: the
+    shared one (k, mu, mu_roll) and the family's own, never one the family does not take (c
+    under hunt_crossley)."""
+    own = LAW_PARAMETERS[family].get(side[family], ())
+    shown = [p for p in (shared, *own) if _value(p, side[p]) != _value(p, against[p])]
+    return " ".join([side[family], *(_value(p, side[p]) for p in shown)])
+
+
+def judged_law_words(law: dict) -> str | None:
+    """What metrics.json's `law` block says in one clause, for the run line and index.md: None
+    where the scene's own law was judged; else 'the identified law: friction smooth_coulomb mu
+    0.4, the scene asks tanh mu 0.5' (each effect that differs, its family and every parameter
+    that differs), or 'the identified law, the scene's own on every effect'."""
+    if not law or law.get("from", "scene") == "scene" or "scene" not in law:
+        return None
+    source = "the identified law" if law["from"] == "identified" else f"the law of {law['from']}"
+    judged, asked = law["judged"], law["scene"]
+    words = []
+    for d in law.get("differences") or []:
+        family, shared = EFFECT_FIELDS[d["effect"]][:2]
+        mine, theirs = _side(family, shared, judged, asked), _side(family, shared, asked, judged)
+        words.append(f"{d['effect']} {mine}, the scene asks {theirs}")
+    return f"{source}: " + "; ".join(words) if words else f"{source}, the scene's own on every effect"
+
+
+def _component(value: float, scale: float) -> str:
+    """A force component of a difference, 0 where it is below SAME_LAW of the difference's size
+    (never a number of round-off, never -0)."""
+    return "0" if abs(value) <= SAME_LAW * scale else f"{value:+.3g}"
+
+
 def law_lines(scene: Scene, differences: list[dict]) -> list[str]:
     """The page's opening lines on the law: the one judged beside the scene's, and each effect
     that differs with its difference at a named moment."""
@@ -71,8 +114,9 @@ def law_lines(scene: Scene, differences: list[dict]) -> list[str]:
         lines += ["The two laws agree on every effect this scene has.", ""]
     for d in differences:
         fx, fy, tau = d["force"]
+        big = d["largest"]
         what = (f"torque {tau:+.3g} N m" if d["effect"] == "rolling"
-                else f"force ({fx:+.3g}, {fy:+.3g}) N, torque {tau:+.3g} N m")
+                else f"force ({_component(fx, big)}, {_component(fy, big)}) N, torque {_component(tau, big)} N m")
         lines.append(f"- **{d['effect']}** differs: at step {d['step']} (t = {d['t']:.6g} s) the judged law "
                      f"gives {what} more than the scene's ({d['largest']:.3g} {d['unit']}, the largest over the run).")
     lines.append("")

@@ -33,6 +33,8 @@ class CheckRow:
     reason_at: int = 0                        # how many details metrics.json writes before `reason`
     residual: np.ndarray | None = field(default=None, compare=False, repr=False)
     # step: (steps, 6) |independent step - next state| (m, rad, m/s, rad/s), for the plots
+    bound: np.ndarray | None = field(default=None, compare=False, repr=False)
+    # step: (steps, 6) the round-off bound of each residual (same units), for the plots
 
     @property
     def label(self) -> str:

@@ -192,9 +192,9 @@ def identical_row(case: Case, run: Trajectory) -> CheckRow:
 
 
 def step_rows(result: Result, case: Case, tested: dict) -> list[CheckRow]:
-    """Check step, for each run under test (its per-step position residuals kept for the plots,
-    in result.residuals, not in the row)."""
-    from .step_check import check_step
+    """Check step, for each run under test (its residuals per component and their round-off
+    kept for the plots as a StepTrace, in result.residuals, not in the row)."""
+    from .step_check import check_step, step_trace
 
     scene, rows = case.scene, []
     for name, run in tested.items():
@@ -204,9 +204,9 @@ def step_rows(result: Result, case: Case, tested: dict) -> list[CheckRow]:
         # states read from a text file carry their rounding (fixed decimals or significant digits)
         row = check_step(scene, run.states(), name, scene.dt, rounding=run.meta.get("rounding"),
                          equations=case.equations)
-        r = row.residual
-        result.residuals[name] = None if r is None else np.hypot(r[:, 0], r[:, 1])
-        rows.append(dataclasses.replace(row, residual=None))
+        r, b = row.residual, row.bound
+        result.residuals[name] = None if r is None or b is None or not len(r) else step_trace(r, b)
+        rows.append(dataclasses.replace(row, residual=None, bound=None))
     return rows
 
 
@@ -354,7 +354,8 @@ def contact_row(case: Case, simulator, under_test: Trajectory | None = None) -> 
                           "give (bring a step function)")
     variant = contact_scene(scene)
     if variant == scene:
-        return check_contact(scene, under_test.states(), integrator, case=case)
+        return _told_applied(check_contact(scene, under_test.states(), integrator, case=case), scene,
+                             under_test.states())
     if scene.contact.damping_law not in LINEAR_KIN:
         return not_judged(integrator, f"MuJoCo's own contact is a spring-damper that damps both ways and never pulls "
                           f"(the linear law), and this check runs your code on the scene with that law; the law "
@@ -369,7 +370,19 @@ def contact_row(case: Case, simulator, under_test: Trajectory | None = None) -> 
     except (UserFault, UserCodeError, SceneSkipped) as exc:
         return not_judged(integrator, f"your simulator did not run the variant this check needs (friction and rolling "
                           f"resistance off, the linear damping law): {exc}")
-    return check_contact(scene, states, integrator, case=case)
+    return _told_applied(check_contact(scene, states, integrator, case=case), variant, states)
+
+
+def _told_applied(row: CheckRow, variant: Scene, states) -> CheckRow:
+    """The contact row, told where the user's run of the friction-off variant changed vx (a
+    horizontal force that variant does not have: friction applied though it is off)."""
+    from .contact_check import horizontal_force
+
+    applied = horizontal_force(variant, states)
+    if applied is None:
+        return row
+    return dataclasses.replace(row, reason=f"{applied['text']}. {row.reason}",
+                               details={**row.details, "horizontal_force": applied})
 
 
 def reference_rows(case: Case, tested: dict, runs: dict,

@@ -95,7 +95,7 @@ def step_residuals(eq: Equations, states: np.ndarray, integrator: str, dt: float
 
 
 def _point_name(eq: Equations, i: int) -> str:
-    lx, ly = eq.points[i]
+    lx, ly = (v + 0.0 for v in eq.points[i])   # + 0.0: a -0.0 (a point at the centre) says 0, not -0
     return f"{i} ({lx:+.3g}, {ly:+.3g})"
 
 
@@ -143,6 +143,39 @@ def phase(eq: Equations, z0, z1=None) -> str:
 def _first_bad_finite(states: np.ndarray) -> int | None:
     ok = np.all(np.isfinite(states), axis=1)
     return None if ok.all() else int(np.argmin(ok))
+
+
+# The residual figure samples each component at most this many times: the step of the largest
+# residual / round-off in each of TRACE_RUNS equal runs of steps (a step over its bound always
+# shows), a few per pixel column of an 800-pixel figure, so drawing costs the same at any length.
+TRACE_RUNS = 1000
+
+
+@dataclass(frozen=True)
+class StepTrace:
+    """The step check's residuals for the figure, per component (COMPONENTS, in UNITS): at each
+    run of steps, the step (1-based) whose residual / round-off is largest, its residual and its
+    round-off bound; each (n, 6), n <= TRACE_RUNS."""
+
+    steps: np.ndarray
+    residual: np.ndarray
+    bound: np.ndarray
+
+
+def step_trace(residual: np.ndarray, bound: np.ndarray, runs: int = TRACE_RUNS) -> StepTrace:
+    """The StepTrace of the residuals (steps, 6) and their bounds (steps, 6)."""
+    r, b = np.asarray(residual, dtype=float), np.asarray(bound, dtype=float)
+    n = r.shape[0]
+    width = max(1, -(-n // runs))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(r == 0.0, 0.0, r / b)
+    ratio = np.nan_to_num(ratio, nan=np.inf)
+    starts = np.arange(0, n, width)
+    pick = np.empty((len(starts), 6), dtype=int)
+    for k, s in enumerate(starts):
+        pick[k] = s + np.argmax(ratio[s:s + width], axis=0)
+    cols = np.arange(6)
+    return StepTrace(pick + 1, r[pick, cols], b[pick, cols])
 
 
 # A rounding allowance above this fraction of the largest change a component makes in one step
@@ -232,6 +265,7 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
     # the rounding could be hiding a mistake in becomes "not judged"
     if swamped and len(swamped) == len(_moving(eq, states)) and passed:
         return CheckRow("step", ISOLATES, integrator, **measured, details=details, reason_at=len(details), residual=r,
+                        bound=b,
                         reason="not judged: " + _rounding_words(rounding, input_rtol) + " carried through one step "
                         f"exceeds {ROUNDING_JUDGE_FRACTION:g} of the largest change per step of every component "
                         "that moves (" + ", ".join(swamped) + "), so a mistake could hide in the rounding; "
@@ -257,7 +291,7 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
     if bad is not None:
         reason += f"; state {bad} is not finite (checked up to it)"
     return CheckRow("step", ISOLATES, integrator, **measured, **tolerance, passed=bool(passed), reason=reason,
-                    details=details, reason_at=reason_at, residual=r)
+                    details=details, reason_at=reason_at, residual=r, bound=b)
 
 
 def _unstepped(integrator: str | None, details: dict, reason: str, passed: bool | None = None) -> CheckRow:

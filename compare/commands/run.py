@@ -106,11 +106,15 @@ def _run(args) -> int:
             for warning in scene.warnings:
                 print(f"warning: {warning}", file=sys.stderr)
             print("\n".join(scene.lines))
-    for text in judgement.details:
-        print(text, file=sys.stderr)
+    traces = dict(judgement.details)
     for scene in judgement.scenes:
-        if scene.metrics is None:
-            print("\n".join(scene.lines))   # each once, with its scene
+        if scene.metrics is None:   # each once, with its scene, and its traceback below it
+            print("\n".join(scene.lines))
+            if scene.name in traces:
+                sys.stdout.flush()
+                print(f"{scene.name}: " + traces.pop(scene.name), file=sys.stderr)
+    for name, text in traces.items():   # raised inside a scene that still reached a verdict
+        print(f"{name}: {text}", file=sys.stderr)
     print(cache_line([s.metrics for s in judgement.scenes if s.metrics is not None]), file=sys.stderr)
     print(f"report: {judgement.report}")
     return judgement.exit_status

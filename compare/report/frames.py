@@ -149,10 +149,19 @@ def _snapshots():
     return fig, axes
 
 
+# The residual figure's panels, in its axes' order (rows of positions | velocities).
+RESIDUAL_PANELS = ("x", "vx", "y", "vy", "theta", "omega")
+RESIDUAL_UNITS = {"x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s"}
+
+
 def _residuals():
-    fig, axes = _figure((8, 4), 1, 1)
-    _log_y(axes[0])
-    _labelled(axes, ("one-step position residual (m)",), "time (s)", which="both")
+    fig, axes = _figure((8, 7), 3, 2, sharex=True)
+    for ax, name in zip(axes, RESIDUAL_PANELS):
+        _log_y(ax)
+        ax.set_ylabel(f"{name} ({RESIDUAL_UNITS[name]})")
+        ax.grid(alpha=0.3, which="both")
+    for ax in axes[-2:]:
+        ax.set_xlabel("time (s)")
     return fig, axes
 
 

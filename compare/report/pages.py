@@ -16,7 +16,7 @@ from .atomic import finite_json, temporary_folder, write_text_atomically
 from ..checks import metrics
 from ..store import cached
 from . import plots
-from ..checks.law_difference import law_lines
+from ..checks.law_difference import judged_law_words, law_lines
 from ..checks.step_check import first_over
 from ..checks.row import CheckRow
 from ..checks.scenario import Result, metrics_json, skipped_json
@@ -61,7 +61,7 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
             "error": lambda: plots.error(scene, diffs, tmp / "error.png"),
             "energy": lambda: plots.energy(scene, result.balances, tmp / "energy.png"),
             "snapshots": lambda: plots.snapshots(scene, tested, twin, tmp / "snapshots.png"),
-            "residuals": lambda: plots.step_residuals(scene, result.residuals, result.checks, tmp / "residuals.png"),
+            "residuals": lambda: plots.step_residuals(scene, result.residuals, tmp / "residuals.png"),
         }, result.warnings)   # a figure that fails adds a warning (data["warnings"] is that list)
         # a non-finite number (a user's 1e308 states make errors inf) is written as null and
         # listed under "non_finite": never NaN or Infinity, which is not JSON, and never a crash
@@ -303,6 +303,12 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
     table += [[f"[{name}]({name}/index.md)" if status == "skipped" else name, *[""] * 12, f"**{status}**: {why}"]
               for name, status, why in failures]
     lines += markdown(INDEX_HEADERS, table).splitlines()
+    laws = [(r["name"], judged_law_words(r.get("law"))) for r in rows]
+    if any(words for _, words in laws):
+        lines += ["", "## The law judged", "",
+                  "Where a scenario was judged under another law than its scene's (`run --law`), each effect "
+                  "that differs, with the parameters that differ:", ""]
+        lines += [f"- [{name}]({name}/index.md): judged under {words}" for name, words in laws if words]
     lines += ["", "## Every judged check", ""]
     checks = [[r["name"], c.label, *map(_num, (c.position_error_max, c.tolerance_position, c.angle_error_max,
                                                c.tolerance_angle)), _verdict(c.passed) + _step_failure(c)]

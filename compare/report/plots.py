@@ -14,7 +14,8 @@ import numpy as np
 from custom_sim import Scene, Trajectory
 
 from .drawing import outlines
-from .frames import frame, harness_rc, save
+from ..checks.step_check import COMPONENTS
+from .frames import RESIDUAL_PANELS, frame, harness_rc, save
 
 # A line of more points than this is drawn through the lowest and highest point of each of
 # MAX_POINTS / 2 equal runs of samples (its envelope): about three per pixel column of these
@@ -26,6 +27,7 @@ STYLE = {"custom": dict(color="tab:blue", lw=1.6, label="custom_sim"),
          "user": dict(color="tab:green", lw=1.4, ls="-.", label="your simulator"),
          "reference": dict(color="black", lw=0.8, ls=":", label="converged reference")}
 E_PLUS_W_STYLE = dict(lw=0.9, alpha=0.7, ls=":")   # E + W beside each run's E
+FOOT = 1e-3   # a residual of exactly 0 is drawn this far below the smallest round-off bound of its panel
 INTEGRATOR_COLOURS = {"explicit_euler": "tab:red", "semi_implicit_euler": "tab:blue",
                       "implicit_euler": "tab:purple", "rk4": "tab:green"}
 
@@ -172,22 +174,28 @@ def snapshots(scene: Scene, a: Trajectory, b: Trajectory, path: Path) -> str:
     return save(fig, path)
 
 
-def step_residuals(scene: Scene, residuals: dict, checks: list, path: Path) -> str | None:
-    """Each integrator's one-step residual against time, with its round-off bound.
-    residuals: integrator -> per-step position residual (m), shape (steps,); checks: CheckRows."""
-    shown = {name: r for name, r in residuals.items() if r is not None and len(r)}
+def step_residuals(scene: Scene, residuals: dict, path: Path) -> str | None:
+    """Each integrator's one-step residual against time, per component in its unit, with its
+    round-off bound (dotted) and a cross at each step over it. residuals: integrator ->
+    StepTrace (compare/checks/step_check.py: the worst step of each run of steps, so a step over
+    its bound always shows, at a cost that does not grow with the run)."""
+    shown = {name: r for name, r in residuals.items() if r is not None and len(r.steps)}
     if not shown:
         return None
-    bounds = {c.integrator: c.tolerance_position for c in checks if c.name == "step"}
-    fig, (ax,) = frame("residuals")
-    for name, r in shown.items():
-        r = np.maximum(np.asarray(r, dtype=float), 1e-20)
-        t = scene.dt * np.arange(1, len(r) + 1)
-        k = _envelope(r)
-        colour = INTEGRATOR_COLOURS.get(name, "tab:gray")
-        ax.plot(t[k], r[k], color=colour, lw=1, label=name)
-        if bounds.get(name):
-            ax.axhline(bounds[name], color=colour, ls=":", lw=1)
-    ax.set_title(f"{scene.name}: each step against the independent step (dotted: round-off bound)")
-    ax.legend(loc="best", fontsize=8)
+    fig, axes = frame("residuals")
+    for ax, component in zip(axes, RESIDUAL_PANELS):
+        k = COMPONENTS.index(component)
+        bounds = np.concatenate([tr.bound[:, k] for tr in shown.values()])
+        positive = bounds[bounds > 0.0]
+        foot = FOOT * positive.min() if positive.size else 1e-20   # where a residual of exactly 0 is drawn
+        for name, trace in shown.items():
+            colour = INTEGRATOR_COLOURS.get(name, "tab:gray")
+            t, r, b = scene.dt * trace.steps[:, k], trace.residual[:, k], trace.bound[:, k]
+            ax.plot(t, np.maximum(r, foot), color=colour, lw=1, label=name)
+            ax.plot(t, np.maximum(b, foot), color=colour, ls=":", lw=1)
+            over = r > b
+            if over.any():
+                ax.plot(t[over], r[over], "x", color="tab:red", ms=4)
+    fig.suptitle(f"{scene.name}: each step against the independent step (dotted: its round-off; x: over it)")
+    axes[0].legend(loc="best", fontsize=7)
     return save(fig, path)

@@ -23,6 +23,8 @@ def failure_text(check) -> str:
         parts.append(f"angle {ang:.3e} rad (tolerance {tol_a:.3e} rad)")
     if d.get("component_first_over") and d.get("first_step_over") is not None:
         parts.append(f"first at step {d['first_step_over']}, in {d['component_first_over']}")
+    if d.get("horizontal_force"):
+        parts.append(f"your step applied a horizontal force with friction off (step {d['horizontal_force']['step']})")
     if not parts:   # failed on something else (a non-finite state, ...): its reason says what
         parts.append(check.reason or f"position {_number(pos, 'm')}, angle {_number(ang, 'rad')}")
     return f"{label}: " + ", ".join(parts)
@@ -34,16 +36,21 @@ def verdict_line(row: dict) -> str:
     from ..checks.row import CheckRow
     from ..checks.scenario import SHOWN
 
+    from ..checks.law_difference import judged_law_words
+
     name = row["name"]
+    law = judged_law_words(row.get("law"))
+    under = f" under {law} (see the page)" if law else ""
     checks = [CheckRow.from_json(c) for c in row["checks"]]
     judged = [c for c in checks if c.passed is not None]
     skipped = [c.label for c in checks if c.passed is None and c.name not in SHOWN]
     note = f"; not judged: {', '.join(skipped)} (see the page)" if skipped else ""
     if not judged:
-        return f"{name:<20} not judged: no check could be judged ({', '.join(skipped) or 'none'}; see the page)"
+        return f"{name:<20} not judged{under}: no check could be judged ({', '.join(skipped) or 'none'}; see the page)"
     if row["pass"]:
-        return f"{name:<20} pass  {len(judged)} checks within tolerance{note}"
-    return f"{name:<20} FAIL  " + "; ".join(failure_text(c) for c in checks if c.passed is False)
+        return (f"{name:<20} pass{under}" if law else
+                f"{name:<20} pass  {len(judged)} checks within tolerance{note}")
+    return f"{name:<20} FAIL{under}  " + "; ".join(failure_text(c) for c in checks if c.passed is False)
 
 
 def law_line(text: str) -> str:

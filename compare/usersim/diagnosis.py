@@ -16,9 +16,11 @@ could probe are listed. The first probed moment (or step) off round-off is also 
 force that makes it, m dv / dt and I domega / dt, at the points touching.
 
 Neither guesses: a catalogued mistake is named only where it reproduces every probed step (every
-chosen moment and every step of the trajectory) to round-off; one that explains all but N of M
-steps is reported as such, not named. Where none explains the residual to round-off, it says
-so and shows the residual, in its units and in newtons.
+chosen moment and every step of the trajectory) to round-off; one that explains all but some
+steps is kept in the dict (not_named) and never printed: a partial match points the wrong way.
+Where none explains the residual to round-off, it says so and shows the residual, in its units
+and in newtons (a component within round-off shows none), a torque read as the part of the
+contact torque it is (mistakes.read_torque), and a run that gains energy (energy_gain.py).
 """
 from __future__ import annotations
 
@@ -30,14 +32,11 @@ from ..checks import mistakes
 from ..checks.case import as_case
 from ..checks.step_check import COMPONENTS, UNITS, first_failure, largest_residual
 from ..table import markdown, number
+from .energy_gain import energy_gain
 from .errors import UserCodeError, UserFault
 from .law_diagnosis import law_findings, law_verdict
 from .moments import not_probed, pick_moments
 from .scene_dict import scene_dict
-
-# At most this many mistakes that explain all steps but some are listed in the verdict line
-# (all of them are in the dict and the markdown table).
-VERDICT_NOT_NAMED = 3
 
 
 def _moments(simulator, scene: Scene, integrator: str, also=(), case=None) -> dict:
@@ -143,6 +142,8 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
                   text}, or None
     laws          where no mistake is named: [{effect, law, text}] for each effect whose law
                   `identify` finds to differ from the scene's (law_diagnosis.py)
+    energy_gain   where the run fails: {user, custom, margin, text} (J) if the user's run gains
+                  energy where custom_sim's under the same law and integrator loses it, else None
     verdict       one line
     """
     integrator = simulator.integrator_for(scene)
@@ -152,6 +153,10 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
     moments = (_moments(simulator, scene, integrator, also=traj.get("explained_by", []), case=case)
                if probe and getattr(simulator, "kind", "") == "step" else None)
     names, not_named = _decide(traj, moments, scene, states, integrator)
+    if moments and moments.get("explained_by") and not set(moments["explained_by"]) <= set(names):
+        # reproduced at every moment but not over the trajectory: named nowhere, this section included
+        moments["verdict"] = (f"disagrees at {moments['where']}; no catalogued mistake explains every probed step "
+                              "(these moments and every step of your trajectory) to round-off")
     named = _named(names)
     step_row = traj["step"]
     disagree = bool(moments and moments.get("disagree"))
@@ -159,6 +164,7 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
     gaps = (moments or {}).get("not_probed", [])
     gap_text = ("; could not be probed: " + "; ".join(f"{g['name']} ({g['effect']}: {g['why']})" for g in gaps)
                 if gaps else "")
+    leads: list = []   # what is known for sure, said before the verdict (each a sentence)
     if step_row.passed is True and not disagree:
         verdict = "every step agrees with the reference step to round-off: nothing to explain" + gap_text
     elif named:
@@ -170,16 +176,46 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
         if force:
             at = (f"at {force['where']} (step {force['step']}, t = {force['time']:.6g} s)"
                   if "step" in force and force["where"] != f"step {force['step']}" else f"at {force['where']}")
-            parts.append(f"{at} your step is off by {force['off']}: a force of {force['text']}")
+            parts.append(f"{at} your step is off by {force['off']}: {mistakes.force_clause(force)}")
         if step_row.passed is False:
             parts.append("your trajectory: " + _trajectory_where(step_row))
-        parts += [n["text"] for n in not_named[:VERDICT_NOT_NAMED]]
         verdict = "no catalogued mistake explains the residual to round-off: " + "; ".join(parts)
         laws = law_findings(simulator, scene, states, rounding, probe)
-        if laws:
-            verdict = law_verdict(laws) + ". " + verdict[0].upper() + verdict[1:]
+        leads += [law_verdict(laws)] if laws else []
+        leads += [torque_finding(moments, traj.get("force"))]
+    gain = energy_gain(scene, states, integrator, rounding, case) if step_row.passed is False or disagree else None
+    said = [*(x for x in leads if x), verdict]
+    if gain:   # a symptom: after a mistake named, before what is left unexplained
+        said.insert(len(said) - (0 if named else 1), gain["text"])
+    verdict = ". ".join([said[0], *map(_capital, said[1:])])
     return {"integrator": integrator, "moments": moments, "trajectory": {**traj, "step": step_row.to_json()},
-            "named": named, "not_named": not_named, "force": force, "verdict": verdict, "laws": laws}
+            "named": named, "not_named": not_named, "force": force, "verdict": verdict, "laws": laws,
+            "energy_gain": gain}
+
+
+def _capital(text: str) -> str:
+    return text[:1].upper() + text[1:]
+
+
+def torque_finding(moments: dict | None, traj_force: dict | None) -> str | None:
+    """Where every disagreeing moment (else the trajectory's first failing step) is a torque
+    with no force beside it and reads as the same part of the contact torque (mistakes.read_torque)
+    the same way: that, in one clause ("the friction torque (r x Ft) has the opposite sign at
+    every moment your step disagrees: touchdown, sliding"); else None."""
+    entries = [e for e in (moments or {}).get("moments", []) if not e["agrees"]]
+    if entries:
+        readings = [(e.get("force") or {}).get("torque_reading") for e in entries]
+        where = f"at every moment your step disagrees ({', '.join(e['name'] for e in entries)})"
+    elif traj_force:
+        readings, where = [traj_force.get("torque_reading")], f"at the first step off round-off ({traj_force['where']})"
+    else:
+        return None
+    if not readings or any(r is None for r in readings):
+        return None
+    first = readings[0]
+    if any((r["part"], r["factor"]) != (first["part"], first["factor"]) for r in readings):
+        return None
+    return f"{mistakes.PART_WORDS[first['part']]} {first['how']} {where}"
 
 
 def _trajectory_where(row) -> str:
@@ -188,6 +224,11 @@ def _trajectory_where(row) -> str:
 
 
 HEADS = [f"{c} ({u})" for c, u in zip(COMPONENTS, UNITS)]   # the tables' column heads
+
+
+def _ratio(v) -> str:
+    """A residual over its round-off; a round-off of 0 (a component that cannot round) in words."""
+    return "any (round-off 0)" if v is not None and v >= 1e300 else _num(v)
 
 
 def _num(v) -> str:
@@ -227,19 +268,13 @@ def render_markdown(diag: dict, heading: bool = True) -> str:
     if diag["named"]:
         lines += _table(["mistake", "seed line", "what it does"],
                         [[f"`{n['name']}`", n["seed_line"], n["description"]] for n in diag["named"]])
-    if diag.get("not_named"):
-        lines += ["Not named: each explains some steps, not every one (a mistake is named only where it "
-                  "reproduces every probed step to round-off):", ""]
-        lines += _table(["mistake", "steps it does not explain", "of", "where"],
-                        [[f"`{n['name']}`", _num(n["steps_off"]), _num(n["steps"]),
-                          "your trajectory" if n["where"] == "trajectory" else "chosen moments"]
-                         for n in diag["not_named"]])
     forces = _force_rows(diag)
     if forces:
         lines += ["Your step minus the reference step, as the force that makes it (m dv / dt, I domega / dt; "
-                  f"dt = {_num(forces[0][1]['dt'])} s, m = {_num(forces[0][1]['mass'])} kg):", ""]
+                  f"dt = {_num(forces[0][1]['dt'])} s, m = {_num(forces[0][1]['mass'])} kg; empty: that velocity "
+                  "agrees to round-off):", ""]
         lines += _table(["where", "off by", "Fx (N)", "Fy (N)", "torque (N m)", "acting at"],
-                        [[where, f.get("off", ""), f"{f['Fx']:.3g}", f"{f['Fy']:.3g}", _num(f["torque"]),
+                        [[where, f.get("off", ""), _num(f["Fx"]), _num(f["Fy"]), _num(f["torque"]),
                           _acting_at(f)] for where, f in forces])
     m = diag.get("moments")
     if m is not None:
@@ -249,11 +284,10 @@ def render_markdown(diag: dict, heading: bool = True) -> str:
             lines += [f"- {g['name']}: {g['effect']}; {g['why']}" for g in m["not_probed"]]
             lines.append("")
         if m.get("moments"):
-            lines += markdown(["moment", "step", "what", "agrees", "component", "largest residual / round-off",
-                               "explained by"],
+            lines += markdown(["moment", "step", "what", "agrees", "component", "largest residual / round-off"],
                               [[e["name"], str(e.get("step", "")), e.get("what", e.get("phase", "")),
-                                "yes" if e["agrees"] else "**no**", e["component"] or "", _num(e["ratio_max"]),
-                                ", ".join(e["explained_by"])] for e in m["moments"]]).splitlines()
+                                "yes" if e["agrees"] else "**no**", e["component"] or "", _ratio(e["ratio_max"])]
+                               for e in m["moments"]]).splitlines()
             lines += ["", "Residuals per component (your step minus the reference step, from the same state):", ""]
             lines += _table(["moment", *HEADS],
                             [[e["name"], *(f"{e['residual'][c]:.3g}" for c in COMPONENTS)] for e in m["moments"]])
@@ -268,5 +302,5 @@ def render_markdown(diag: dict, heading: bool = True) -> str:
         lines += ["Catalogued mistakes stepped over the whole trajectory:", ""]
         lines += _table(["mistake", "explains", "first step off", "largest residual / round-off"],
                         [[f"`{x['name']}`", "yes" if x["explains"] else "no", _num(x.get("first_step")),
-                          _num(x.get("ratio_max"))] for x in tried])
+                          _ratio(x.get("ratio_max"))] for x in tried])
     return "\n".join(lines)

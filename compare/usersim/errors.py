@@ -83,8 +83,9 @@ def one_line(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
 
 
-def raised(where: str, exc: BaseException, expected: str) -> UserCodeError:
-    """`where` raised exc: one line naming it and the exception, the shortened traceback."""
-    return UserCodeError(f"{where} raised {one_line(exc)} (expected {expected})", user_traceback(exc))
+def raised(where: str, exc: BaseException) -> UserCodeError:
+    """`where` raised exc: one line naming it and the exception, the shortened traceback (no
+    "expected ...": the code raised, it returned nothing wrong)."""
+    return UserCodeError(f"{where} raised {one_line(exc)}", user_traceback(exc))
 
 

@@ -26,6 +26,7 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import inspect
+import keyword
 import sys
 import time
 import warnings
@@ -69,8 +70,30 @@ def _execute(name: str, spec, where: str):
         raise
     except Exception as exc:  # noqa: BLE001 - any fault of the user's module
         sys.modules.pop(name, None)
-        raise raised(where, exc, "a module that imports") from None
+        raise raised(where, exc) from None
     return mod
+
+
+def _file_module_name(path: Path) -> str:
+    """The module name a .py file is imported under: its own stem, as `import stem` names it in
+    the user's own code (numba's cache=True stores the module's name, so that the user's imports
+    and the harness's share it), unless that name is another module's (the harness's, the
+    standard library's, another file's) or no identifier; then a name of the harness's own."""
+    stem = path.stem
+    if stem.isidentifier() and not keyword.iskeyword(stem):
+        loaded = sys.modules.get(stem)
+        if loaded is not None:
+            mine = getattr(loaded, "__file__", None)
+            if mine is not None and Path(mine).resolve() == path:
+                return stem
+        else:
+            try:
+                found = importlib.util.find_spec(stem)
+            except (ImportError, ValueError):
+                found = None
+            if found is None or (found.origin and Path(found.origin).resolve() == path):
+                return stem
+    return "usersim_" + "".join(ch if ch.isalnum() else "_" for ch in str(path))
 
 
 def _import(module: str):
@@ -85,7 +108,7 @@ def _import(module: str):
         if not path.is_file():
             raise UserCodeError(f"{where}: no such file (expected a path to a .py file or a dotted module name)")
         path = path.resolve()
-        name = "usersim_" + "".join(ch if ch.isalnum() else "_" for ch in str(path))
+        name = _file_module_name(path)
         spec = importlib.util.spec_from_file_location(name, path)
         folder = str(path.parent)
         sys.path.insert(0, folder)
@@ -105,7 +128,7 @@ def _import(module: str):
     except UserCodeError:
         raise
     except Exception as exc:  # noqa: BLE001 - a parent package that fails to import
-        raise raised(f"{where}: importing {module}", exc, "a module that imports") from None
+        raise raised(f"{where}: importing {module}", exc) from None
     else:
         missing = module
     if spec is None:
@@ -240,7 +263,7 @@ class StepFunction(_Function):
         except (UserCodeError, UserFault):   # a process's fault is one line already (process.py)
             raise
         except Exception as exc:  # noqa: BLE001
-            raise UserFault(raised(where, exc, f"a state {STATE}")) from None
+            raise UserFault(raised(where, exc)) from None
         return as_state(out, where)[0]
 
     def _run(self, scene: Scene) -> UserRun:
@@ -277,7 +300,7 @@ class StepFunction(_Function):
             if bad >= 0:  # it failed on a non-finite state it returned before: name that one
                 raise _non_finite(self.spec, out, bad, dt) from None
             raise UserFault(raised(f"{self.spec} at step {i} (t = {i * dt:.6g} s, from state "
-                                   f"{_state_text(out[i - 1])})", exc, f"a state {STATE}")) from None
+                                   f"{_state_text(out[i - 1])})", exc)) from None
         wall = time.perf_counter() - start
         bad = _first_bad_row(out)
         if bad >= 0:
@@ -333,7 +356,7 @@ class WholeFunction(_Function):
         except NotImplementedError as exc:   # the code does not do this scene: skipped
             raise not_implemented(exc) from None
         except Exception as exc:  # noqa: BLE001
-            raise UserFault(raised(where, exc, f"an array ({n + 1}, 6)")) from None
+            raise UserFault(raised(where, exc)) from None
         wall = time.perf_counter() - start
         if isinstance(value, np.ndarray) and value.dtype.kind not in "fiu" or value is None:
             raise UserCodeError(f"{where} returned {_describe(value)} "

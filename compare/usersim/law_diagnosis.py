@@ -8,6 +8,12 @@ from scene_types.laws import effect_texts
 from ..identify.report import params_text
 
 FIELD = {"normal": "damping_law", "friction": "friction_law", "rolling": "roll_law"}
+# What each effect's reading rests on (identify reads the normal force and friction from the
+# velocity changes at the points where contact acts, through the integrator and gravity; the
+# rolling resistance from the angular ones, through the inertia too): a reading is named only
+# where none of these failed.
+RESTS_ON = {"normal": ("integrator", "gravity", "points"), "friction": ("integrator", "gravity", "points"),
+            "rolling": ("integrator", "gravity", "points", "inertia")}
 WORDS = {"normal": "normal force", "friction": "friction", "rolling": "rolling resistance"}
 
 
@@ -25,14 +31,42 @@ def law_findings(simulator, scene: Scene, states, rounding=None, probe: bool = T
             result = identify_run(states, scene, rounding, getattr(simulator, "kind", "whole"))
     except (UserCodeError, UserFault, ValueError, ArithmeticError):
         return []
-    declared = simulator.integrator_for(scene)
-    if result["integrator"]["name"] != declared or any(result["matches_scene"].get(part) is False
-                                                        for part in ("body", "gravity")):
-        return []   # the forces are read through the body and the step: a law read through wrong ones says nothing
+    out = findings(result, scene, simulator.integrator_for(scene))
+    return out if any(not f.get("unread") for f in out) else []   # nothing read: nothing to say
+
+
+def _failed(result: dict, declared: str) -> dict:
+    """What the readings rest on that identify found wrong: {part: words} of integrator,
+    gravity, points (where contact acts) and inertia."""
+    failed = {}
+    if result["integrator"]["name"] != declared:
+        failed["integrator"] = "the integrator, which is not the one declared"
+    if result["matches_scene"].get("gravity") is False:
+        failed["gravity"] = "gravity, which is not the scene's"
+    if result["matches_scene"].get("body") is False:
+        body = result.get("body") or {}
+        if not body.get("points_match", False):
+            failed["points"] = "the contact points, which are not the scene's"
+        else:
+            failed["inertia"] = "the inertia, which no value matching the scene's reproduces"
+    return failed
+
+
+def findings(result: dict, scene: Scene, declared: str) -> list[dict]:
+    """[{effect, law, text}] from identify's result: each effect whose law differs from the
+    scene's (its family and parameters, or that it fits no family), named wherever its reading
+    does not rest on what failed (RESTS_ON), whatever another effect did; and, where it does,
+    that it could not be read (law None, `unread`)."""
+    failed = _failed(result, declared)
     asked = effect_texts(scene.contact)
     out = []
     for effect, field in FIELD.items():
         if result["matches_scene"].get(effect) is not False:
+            continue
+        blocked = [failed[p] for p in RESTS_ON[effect] if p in failed]
+        if blocked:
+            out.append({"effect": effect, "law": None, "unread": True,
+                        "text": f"your {WORDS[effect]} is not read: its reading rests on {blocked[0]}"})
             continue
         e = result[effect]
         if e.get("law") is not None:
@@ -40,10 +74,19 @@ def law_findings(simulator, scene: Scene, states, rounding=None, probe: bool = T
             text = f"your {WORDS[effect]} is {found}, the scene asks {asked[effect]}"
         else:
             c = e.get("closest", {})
-            text = (f"your {WORDS[effect]} fits no family of the harness (closest {c.get('law')}, "
-                    f"{c.get('residual', float('nan')):.3g} off), the scene asks {asked[effect]}")
+            text = (f"your {WORDS[effect]} fits no family of the harness (closest {c.get('law')}"
+                    f"{_off(c, effect)}), the scene asks {asked[effect]}")
         out.append({"effect": effect, "law": e.get("law"), "text": text})
     return out
+
+
+def _off(closest: dict, effect: str) -> str:
+    """', 3.2 N off (4.1e+05 x round-off)': the closest family's residual, where it is above round-off."""
+    rel, res = closest.get("relative"), closest.get("residual")
+    if rel is None or res is None or not (rel > 1.0) or rel == float("inf"):
+        return ""
+    unit = "N m" if effect == "rolling" else "N"
+    return f", {res:.3g} {unit} off ({rel:.2g} x round-off)"
 
 
 def law_verdict(findings: list[dict]) -> str:

@@ -57,8 +57,9 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
         except UserFault as exc:   # this scene's fault: its line, the others still judged
             ok = False
             print(f"{scene.name:<16} error: {exc}")
-            if exc.details:
-                print(exc.details, file=sys.stderr)
+            if exc.details:   # its traceback, under its scene's name
+                sys.stdout.flush()
+                print(f"{scene.name}: {exc.details}", file=sys.stderr)
             continue
         states = traj.states()
         same = check_identical(scene, states, traj.integrator, scene.dt, traj.meta["rounding"])

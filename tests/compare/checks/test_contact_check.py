@@ -214,4 +214,55 @@ def test_a_users_code_runs_again_only_for_a_variant_that_differs_from_the_scene(
     monkeypatch.setattr(usersim, "run_user", lambda sim, s: calls.append(s.name) or real(sim, s))
     row = contact_row(case, sim, run)
     assert len(calls) == runs
-    assert row.passed is False and row == again
+    # the outsider applies friction whatever the effects say (box_drop's mu 0.5; elastic_bounce's vx
+    # stays 0): the row tells so, the rest is check_contact's
+    assert ("horizontal_force" in row.details) == (runs == 1)
+    assert row.passed is False and dataclasses.replace(row, reason=again.reason, details=again.details) == again
+
+
+# A seed-style point mass whose step applies friction whatever scene["effects"] says.
+FRICTION_ALWAYS = '''
+import math
+
+def step(state, scene, dt):
+    x, y, th, vx, vy, om = (float(v) for v in state)
+    m, ct = scene["mass_properties"]["mass"], scene["contact"]
+    fx, fy = 0.0, -m * scene["g"]
+    d = -(y - scene["mass_properties"]["contact_points"][0][1])
+    if d > 0.0:
+        fn = max(0.0, ct["k"] * d - ct["c"] * vy)
+        fx, fy = -ct["mu"] * fn * math.tanh(ct["alpha"] * vx), fy + fn
+    vx, vy = vx + dt * fx / m, vy + dt * fy / m
+    return [x + dt * vx, y + dt * vy, th, vx, vy, om]
+'''
+
+
+def test_a_step_that_applies_friction_with_friction_off_is_told_so(tmp_path):
+    """Before: the contact row failed by metres, unexplained. In the friction-off variant no
+    horizontal force acts, so vx must stay exactly what it was; this step changes it at the
+    first touching step by mu Fn tanh(alpha vx) dt / m."""
+    import compare.usersim as usersim
+    from compare.checks.case import Case
+    from compare.checks.scenario import contact_row
+    from compare.run.lines import failure_text
+
+    path = tmp_path / "friction_always.py"
+    path.write_text(FRICTION_ALWAYS)
+    sim = usersim.load_simulator(f"{path}:step")
+    scene = dataclasses.replace(load("point_drop"), duration=0.4)
+    row = contact_row(Case(scene), sim, usersim.run_user(sim, scene))
+    applied = row.details["horizontal_force"]
+    states = usersim.run_user(sim, contact_scene(scene)).states()
+    first = int(np.flatnonzero(np.diff(states[:, 3]) != 0.0)[0])
+    assert applied["step"] == first + 1 and applied["dvx"] == states[first + 1, 3] - states[first, 3]
+    assert row.reason.startswith("your step applied a horizontal force in this friction-off variant")
+    if row.passed is False:
+        assert "horizontal force with friction off" in failure_text(row)
+
+
+def test_a_step_that_honours_the_effects_is_not_told_anything():
+    from compare.checks.contact_check import horizontal_force
+    from custom_sim import simulate
+
+    scene = contact_scene(dataclasses.replace(load("box_drop"), duration=0.6))
+    assert horizontal_force(scene, simulate(scene).states()) is None

@@ -8,6 +8,7 @@ import numpy as np
 
 from compare.report.plots import MAX_POINTS, _envelope
 from compare.checks.row import CheckRow
+from compare.checks.step_check import step_trace
 
 
 def test_short_lines_are_drawn_whole():
@@ -58,15 +59,15 @@ def _figures(tmp, scene):
     balances = {name: SimpleNamespace(t=t, E=energy, dissipated=energy[0] - energy, R=1e-6 * wave)
                 for name in ("custom_sim", "mujoco", "reference")}
     diffs = {"t": t, "position": np.abs(1e-3 * wave) + 1e-14, "angle": np.abs(1e-2 * wave)}
-    residuals = {"semi_implicit_euler": 1e-17 * (1 + np.abs(wave[1:]))}
-    checks = [CheckRow("step", "one step", integrator="semi_implicit_euler", tolerance_position=1e-15)]
+    r = 1e-17 * (1 + np.abs(wave[1:]))[:, None] * np.ones(6)
+    residuals = {"semi_implicit_euler": step_trace(r, np.full_like(r, 1e-15))}
     shown = (custom, mujoco)
     return {"states": lambda: plots.states(scene, shown, tmp / "states.png", custom.states()),
             "path": lambda: plots.path_in_plane(scene, shown, tmp / "path.png"),
             "error": lambda: plots.error(scene, diffs, tmp / "error.png"),
             "energy": lambda: plots.energy(scene, balances, tmp / "energy.png"),
             "snapshots": lambda: plots.snapshots(scene, custom, mujoco, tmp / "snapshots.png"),
-            "residuals": lambda: plots.step_residuals(scene, residuals, checks, tmp / "residuals.png")}
+            "residuals": lambda: plots.step_residuals(scene, residuals, tmp / "residuals.png")}
 
 
 def test_a_prebuilt_frame_draws_the_same_figure_as_a_new_one(tmp_path):
@@ -164,3 +165,30 @@ def test_a_saved_figure_has_the_pixels_savefig_writes(tmp_path):
     with Image.open(tmp_path / "error.png") as ours, Image.open(tmp_path / "savefig.png") as theirs:
         assert ours.size == theirs.size == (800, 550)
         assert np.array_equal(np.asarray(ours), np.asarray(theirs.convert("RGB")))
+
+
+def test_an_omega_only_failure_shows_in_the_residual_figure(tmp_path, monkeypatch):
+    """Before: the figure drew the position residual alone, so a step off in omega only (a
+    friction torque's sign) looked like a pass. One step of 200,000 over its round-off in omega
+    is kept by the trace and drawn as a cross in the omega panel, and nowhere else."""
+    from compare.report import frames, plots
+    from compare.scenarios import load
+
+    steps, bad = 200_000, 123_457
+    r = np.full((steps, 6), 1e-17)
+    b = np.full((steps, 6), 1e-15)
+    r[bad, 5] = 3e-4                                   # rad/s, the newcomer's box at its touchdown
+    trace = step_trace(r, b)
+    assert len(trace.steps) <= 1000 and bad + 1 in trace.steps[:, 5]
+    saved = {}
+    real_save = frames.save
+    monkeypatch.setattr(plots, "save", lambda fig, path: saved.setdefault("fig", fig) and real_save(fig, path))
+    scene = load("box_drop")
+    assert plots.step_residuals(scene, {"semi_implicit_euler": trace}, tmp_path / "residuals.png")
+    axes = saved["fig"].axes
+    assert [ax.get_ylabel() for ax in axes] == ["x (m)", "vx (m/s)", "y (m)", "vy (m/s)", "theta (rad)",
+                                                "omega (rad/s)"]
+    crosses = {ax.get_ylabel(): [ln for ln in ax.get_lines() if ln.get_marker() == "x"] for ax in axes}
+    assert [k for k, v in crosses.items() if v] == ["omega (rad/s)"]
+    (line,) = crosses["omega (rad/s)"]
+    assert line.get_xydata().tolist() == [[(bad + 1) * scene.dt, 3e-4]]

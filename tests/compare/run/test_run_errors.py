@@ -56,3 +56,22 @@ def test_an_exception_in_a_scenario_becomes_its_error_row(tmp_path, monkeypatch)
 @pytest.mark.parametrize("exc, expected", [(ValueError("a\nb"), "ValueError: a"), (RuntimeError(""), "RuntimeError")])
 def test_one_line_cause(exc, expected):
     assert one_line(exc) == expected
+
+
+def test_a_step_that_raises_is_said_once_with_its_scene(tmp_path, capsys):
+    """Before: the row's line, then the same words again on stderr as 'error: ...' with no
+    scene, the traceback printed apart from both, and '(expected a state ...)' after an
+    exception (the step raised: nothing it returned was wrong)."""
+    from compare.cli import main
+
+    sim = tmp_path / "raises.py"
+    sim.write_text("def step(state, scene, dt):\n    raise ValueError('negative height')\n")
+    scene = short_scene(tmp_path, "box_slide", 0.05)
+    status = main(["run", str(scene), "--sim", f"{sim}:step", "--out", str(tmp_path / "out"), "--jobs", "1"])
+    out, err = capsys.readouterr()
+    assert status == 1
+    both = out + err
+    assert both.count("raised ValueError: negative height") == 1, both
+    line = next(x for x in out.splitlines() if "negative height" in x)
+    assert line.startswith("box_slide_short") and "(expected" not in line
+    assert "box_slide_short: Traceback (your code" in err

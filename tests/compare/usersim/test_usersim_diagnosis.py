@@ -7,7 +7,7 @@
 - a point mass launched upward from contact (separating at 1 m/s, no contact force acting):
   no contact moment is probed there, and the diagnosis says which effects it could not probe;
 - a box whose step takes theta in degrees (cos(radians(theta))): corners_not_rotated
-  reproduces the chosen moments but not every step, so it is not named.
+  reproduces the chosen moments but not every step, so it is not named, nor printed.
 """
 from __future__ import annotations
 
@@ -207,7 +207,7 @@ def test_a_velocity_residual_as_a_force():
     eq = Equations.from_scene(scene)
     z0 = np.array([0.0, 0.049, 0.0, 0.0, -2.04, 0.0])
     f = mistakes.force_difference(eq, z0, np.array([0.0, 0.0, 0.0, 0.0, -0.00102, 0.0]), 5e-5)
-    assert f["Fy"] == pytest.approx(-40.8, rel=1e-12) and f["Fx"] == 0.0
+    assert f["Fy"] == pytest.approx(-40.8, rel=1e-12) and f["Fx"] is None   # no vx difference: no force
     assert [p["point"] for p in f["points"]] == [0]
     assert "40.8 N" in f["text"]
 
@@ -278,8 +278,9 @@ def test_theta_in_degrees_is_not_named_corners_not_rotated(degrees):
     assert "corners_not_rotated" in near, diag["not_named"]
     assert near["corners_not_rotated"]["steps_off"] > 0
     assert near["corners_not_rotated"]["steps_off"] < near["corners_not_rotated"]["steps"]
-    assert "explains all but" in diag["verdict"] and "not named" in diag["verdict"]
-    assert "corners_not_rotated" in render_markdown(diag)
+    # a partial match points the wrong way: kept in the dict, never printed (issue 32, item 7)
+    assert "explains all but" not in diag["verdict"] and "corners_not_rotated" not in diag["verdict"]
+    assert "corners_not_rotated" not in render_markdown(diag)
 
 
 def test_the_trajectory_route_names_only_what_explains_every_step():
@@ -298,4 +299,4 @@ def test_the_trajectory_route_names_only_what_explains_every_step():
     assert out["explained_by"] == []
     near = {n["name"]: n for n in out["not_named"]}
     assert near[name]["steps_off"] == 1 and near[name]["steps"] == scene.steps
-    assert "explains all but 1 of" in out["verdict"] and "not named" in out["verdict"]
+    assert "explains all but" not in out["verdict"] and name not in out["verdict"]
