@@ -7,6 +7,7 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -30,15 +31,16 @@ def scene(tmp_path_factory):
 def buggy(scene, tmp_path_factory):
     """The buggy example judged from a working folder of its own, with nothing asked to be written."""
     here = tmp_path_factory.mktemp("cwd")
-    before = set(Path(os.environ.get("TMPDIR", "/tmp")).glob("contact-judge-*"))
-    old = os.getcwd()
+    temp = tmp_path_factory.mktemp("temp")   # its own temporary folder: other tests run beside it
+    old, old_temp = os.getcwd(), tempfile.tempdir
     os.chdir(here)
+    tempfile.tempdir = str(temp)
     try:
         judgement = compare.judge(BUGGY + ":step", str(scene), jobs=1)
     finally:
         os.chdir(old)
-    left = set(Path(os.environ.get("TMPDIR", "/tmp")).glob("contact-judge-*")) - before
-    return judgement, sorted(here.iterdir()), left
+        tempfile.tempdir = old_temp
+    return judgement, sorted(here.iterdir()), set(temp.iterdir())
 
 
 def test_the_buggy_example_fails_and_the_diagnosis_names_its_mistakes(buggy):
