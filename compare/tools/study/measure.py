@@ -77,8 +77,7 @@ def measure_batch(points: list[Point], references: list, threads: int = 1, twin:
         plans = []
         for p in points:
             twin_dt = p.scene.mujoco.dt or p.scene.dt
-            ours, theirs = twin_rows(p.scene, twin_dt, rows_of[p.key])
-            plans.append((ours, theirs))
+            plans.append(twin_rows(p.scene, twin_dt, rows_of[p.key]))
         done = simulate_mujoco_batch([p.scene for p in points], [t for _, t in plans], threads=threads)
         twins = {p.key: (plan[0], t) for p, plan, t in zip(points, plans, done)}
     simulator = None

@@ -62,6 +62,8 @@ def step(state, scene, dt):
 # m: the converged reference follows a parabola to its own error tolerance, far below what a
 # step that restarted its count at the wrong time (an error of 0.3 s of fall, metres) shows
 FREE_FALL_AGREEMENT = 1e-8
+# m: the twin and custom_sim's semi-implicit Euler agree on a free fall to round-off of 300 steps
+TWIN_AGREEMENT = 1e-9
 MASSES = (1.0, 2.0, 3.0)   # free fall does not depend on the mass: three points, one motion
 
 
@@ -84,7 +86,7 @@ def study(files, tmp_path_factory):
     err = io.StringIO()
     with contextlib.redirect_stderr(err):
         code = main(["study", str(files / "free_fall.toml"), "--vary", f"body.mass={','.join(map(str, MASSES))}",
-                     "--sim", f"{files / 'stateful_sim.py'}:step", "--workers", "1", "--no-twin", "--out", str(out)])
+                     "--sim", f"{files / 'stateful_sim.py'}:step", "--workers", "1", "--out", str(out)])
     return code, table.read_csv(out / "study.csv"), err.getvalue(), out
 
 
@@ -98,6 +100,18 @@ def test_a_step_that_keeps_state_is_judged_from_a_fresh_import_at_every_run(stud
         assert float(r["position_error_max"]) < FREE_FALL_AGREEMENT, (
             f"body.mass={r['body.mass']}: error {r['position_error_max']} m against the reference")
         assert float(r["wall_time"]) > 0 and r["force_evals"] == ""
+
+
+def test_the_twin_is_measured_against_the_users_runs_too(study):
+    """MuJoCo's twin steps semi-implicit Euler, as custom_sim's does: on a parabola both lag it by
+    the same g dt t / 2, so your closed form's distance to the twin is custom_sim's error."""
+    _, rows, _, _ = study
+    for mass in MASSES:
+        at = [r for r in rows if float(r["body.mass"]) == mass and r["integrator"] == "semi_implicit_euler"]
+        mine = next(r for r in at if r["simulator"] == "yours")
+        ours = next(r for r in at if r["simulator"] == "custom_sim")
+        assert abs(float(mine["twin_position_error_max"]) - float(ours["position_error_max"])) < TWIN_AGREEMENT, (
+            mine["twin_position_error_max"], ours["position_error_max"])
 
 
 def test_custom_sim_runs_beside_and_the_columns_are_added_after_the_contract(study):
