@@ -97,3 +97,28 @@ def test_a_module_that_is_no_py_file_is_bad_input_naming_it():
     """A compiled module cannot be sent as text: one line saying so, before anything runs."""
     with pytest.raises(UserCodeError, match="math is not a .py file the workers can be sent"):
         Bundle.of("math:sqrt")
+
+
+def test_a_whole_run_travels_too(tmp_path, clean_modules):
+    """--whole: simulate(scene) from the shipped copy, the same array as from the user's file."""
+    folder = tmp_path / "user"
+    folder.mkdir()
+    (folder / "helper.py").write_text(HELPER)
+    (folder / "whole_sim.py").write_text(
+        "import numpy as np\nfrom helper import GRAVITY_SIGN\n\n"
+        "def simulate(scene):\n"
+        "    n = int(round(scene['duration'] / scene['dt']))\n"
+        "    z = np.tile(np.array(scene['state0'], dtype=float), (n + 1, 1))\n"
+        "    t = np.arange(n + 1) * scene['dt']\n"
+        "    z[:, 1] += GRAVITY_SIGN * 0.5 * scene['g'] * t * t\n"
+        "    z[:, 4] += GRAVITY_SIGN * scene['g'] * t\n"
+        "    return z\n")
+    scene = dataclasses.replace(load("box_drop"), duration=SHORT)
+    from compare.usersim import WholeFunction
+    want = WholeFunction(f"{folder / 'whole_sim.py'}:simulate").run(scene).states
+    bundle = Bundle.of(f"{folder / 'whole_sim.py'}:simulate", whole=True)
+    sys.modules.pop("helper", None)
+    shutil.rmtree(folder)
+    simulator = bundle.simulator()
+    assert simulator.kind == "whole"
+    assert np.array_equal(simulator.run(scene).states, want)
