@@ -68,7 +68,10 @@ def _index_lines(study, figures, parquet: bool, command: str | None) -> list[str
               "converged reference, read every 2 ms), `twin_position_error_max` (m, the same against the "
               "MuJoCo twin of the same scene), `wall_time` (s, the compiled stepping alone), `force_evals`, "
               f"`status`. Table: [study.csv](study.csv){' and study.parquet' if parquet else ''}; "
-              "an empty cell has its reason in `note`.", ""]
+              "an empty cell has its reason in `note`."
+              + (" Yours (`simulator` = yours): unstable where it left custom_sim's healthy range, returned a "
+                 "non-finite state or gained energy as above; `wall_time` is its loop; skipped where it raised "
+                 "NotImplementedError, failed where it raised anything else." if study.yours else ""), ""]
     for metric, name in figures:
         lines += [f"## {maps.METRICS[metric][0]}", "", f"![{metric}]({name})", ""]
     limits = maps.measured_limits(study)
