@@ -109,7 +109,8 @@ def parse(args):
     if args.scheduler and args.workers:
         raise BadInput("--workers: the cluster given by --scheduler has its own workers")
     if args.scheduler and args.dashboard:
-        raise BadInput("--dashboard: the cluster given by --scheduler has its own (its scheduler's --dashboard-address)")
+        raise BadInput("--dashboard: the cluster given by --scheduler has its own "
+                       "(its scheduler's --dashboard-address)")
     out = output_folder(args.out)
     yours = yours_of(args, source.scene, args.integrators)
     from ..tools.study.plan import plan

@@ -67,8 +67,8 @@ def _index_lines(study, figures, parquet: bool, command: str | None) -> list[str
               "motion's largest kinetic energy), `position_error_max` (m, the largest distance of the centre of mass from the "
               "converged reference, read every 2 ms), `twin_position_error_max` (m, the same against the "
               "MuJoCo twin of the same scene), `wall_time` (s, the compiled stepping alone), `force_evals`, "
-              f"`status`. Table: [study.csv](study.csv){' and study.parquet' if parquet else ''}; "
-              "an empty cell has its reason in `note`."
+              (f"`status`. Table: [study.csv](study.csv){' and study.parquet' if parquet else ''}; "
+               "an empty cell has its reason in `note`.")
               + (" Yours (`simulator` = yours): unstable where it left custom_sim's healthy range, returned a "
                  "non-finite state or gained energy as above; `wall_time` is its loop; skipped where it raised "
                  "NotImplementedError, failed where it raised anything else." if study.yours else ""), ""]
@@ -80,7 +80,8 @@ def _index_lines(study, figures, parquet: bool, command: str | None) -> list[str
                   "Measured: the largest dt of the grid whose run, and every smaller dt's, was stable "
                   "(so the true limit lies between it and the next dt of the grid). Theory: "
                   "custom_sim.stability.stable_step for the same scene.", ""]
-        rows = [[maps.panel_title((lim["simulator"], lim["integrator"])), ", ".join(f"{k}={_value(v)}" for k, v in lim["values"].items()) or "-",
+        rows = [[maps.panel_title((lim["simulator"], lim["integrator"])),
+                 ", ".join(f"{k}={_value(v)}" for k, v in lim["values"].items()) or "-",
                  *map(_num, (lim["stable_up_to"], lim["first_unstable"], lim["theory"])),
                  _num(lim["ratio"], decimals=2)] for lim in limits]
         lines += markdown(["integrator", "other fields", "stable up to (s)", "first unstable (s)", "theory (s)",
@@ -90,6 +91,7 @@ def _index_lines(study, figures, parquet: bool, command: str | None) -> list[str
     if failed:
         lines += ["## Failed runs", ""]
         lines += [f"- {', '.join(f'{n}={_value(v)}' for n, v in zip(study.names, r['values']))}, "
-                  f"{maps.panel_title((r.get('simulator') or 'custom_sim', r['integrator']))}: {r['note']}" for r in failed]
+                  f"{maps.panel_title((r.get('simulator') or 'custom_sim', r['integrator']))}: {r['note']}"
+                  for r in failed]
         lines.append("")
     return lines

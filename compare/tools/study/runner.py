@@ -48,7 +48,8 @@ class Study:
     @property
     def panels(self) -> list[tuple[str, str]]:
         """(simulator, integrator) of every map panel: custom_sim's integrators, then yours."""
-        return [("custom_sim", i) for i in self.integrators] + [("yours", i) for i in (self.yours.integrators if self.yours else ())]
+        yours = self.yours.integrators if self.yours else ()
+        return [("custom_sim", i) for i in self.integrators] + [("yours", i) for i in yours]
 
 
 def load_done(store: Store) -> dict[str, dict]:

@@ -6,7 +6,6 @@ through the same process, as a module that kept state between runs would notice.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import pytest
 

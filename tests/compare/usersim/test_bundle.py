@@ -8,9 +8,9 @@ import sys
 import numpy as np
 import pytest
 
+from compare.scenarios import load
 from compare.usersim import StepFunction, UserCodeError
 from compare.usersim.bundle import PREFIX, Bundle
-from compare.scenarios import load
 
 # A step in two files and a package: the module imports a sibling at its top and another
 # inside its step (at call time); `physics` is a package of its own folder.
