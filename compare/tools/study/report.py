@@ -61,17 +61,18 @@ def _index_lines(study, figures, parquet: bool, command: str | None) -> list[str
                      f"{len(study.yours.bundle.files)} file(s): {', '.join(r for r, _ in study.yours.bundle.files)}")
     if study.source.law_from:
         lines.append(f"- the law: `{study.source.law_from}` laid over the scene's [contact]")
-    lines += ["",
-              "Every other field is the scene file's. Per run: `stable` (custom_sim did not stop the run "
+    judged = ("Every other field is the scene file's. Per run: `stable` (custom_sim did not stop the run "
               "as diverged, and the energy read outside hard contact did not rise by more than 10 % of the "
-              "motion's largest kinetic energy), `position_error_max` (m, the largest distance of the centre of mass from the "
-              "converged reference, read every 2 ms), `twin_position_error_max` (m, the same against the "
-              "MuJoCo twin of the same scene), `wall_time` (s, the compiled stepping alone), `force_evals`, "
-              (f"`status`. Table: [study.csv](study.csv){' and study.parquet' if parquet else ''}; "
-               "an empty cell has its reason in `note`.")
-              + (" Yours (`simulator` = yours): unstable where it left custom_sim's healthy range, returned a "
-                 "non-finite state or gained energy as above; `wall_time` is its loop; skipped where it raised "
-                 "NotImplementedError, failed where it raised anything else." if study.yours else ""), ""]
+              "motion's largest kinetic energy), `position_error_max` (m, the largest distance of the centre of "
+              "mass from the converged reference, read every 2 ms), `twin_position_error_max` (m, the same "
+              "against the MuJoCo twin of the same scene), `wall_time` (s, the compiled stepping alone), "
+              f"`force_evals`, `status`. Table: [study.csv](study.csv){' and study.parquet' if parquet else ''}; "
+              "an empty cell has its reason in `note`.")
+    if study.yours:
+        judged += (" Yours (`simulator` = yours): unstable where it left custom_sim's healthy range, returned a "
+                   "non-finite state or gained energy as above; `wall_time` is its loop; skipped where it raised "
+                   "NotImplementedError, failed where it raised anything else.")
+    lines += ["", judged, ""]
     for metric, name in figures:
         lines += [f"## {maps.METRICS[metric][0]}", "", f"![{metric}]({name})", ""]
     limits = maps.measured_limits(study)

@@ -143,6 +143,7 @@ def test_what_the_users_code_does_not_do_is_said_per_run(study):
     assert "yours: 3 run(s) failed, the first: " in err and "ValueError: boom" in err
     index = (out / "index.md").read_text()
     assert "stateful_sim.py:step" in index and "fall.py, stateful_sim.py" in index
+    assert "Yours (`simulator` = yours): unstable where" in index
 
 
 @pytest.mark.parametrize("argv, message", [
