@@ -1,9 +1,6 @@
 """A hand-written 2D penalty contact simulator: point mass, box, compound body, rolling circle."""
-from .compile_cache import clear_if_sources_changed, warm_up
-
-clear_if_sources_changed()
-
-from .bodies import MassProperties, mass_properties  # noqa: E402
+from .bodies import MassProperties, mass_properties
+from .compile_cache import warm_up
 from .integrators import INTEGRATORS, Integrator
 from scene_types import Scene, SceneError, load_scene, parse_scene
 from .runner import SimulationChattered, SimulationDiverged, Stepper, simulate

@@ -173,7 +173,7 @@ def simulate_batch(scenes: list[Scene], samples: list[np.ndarray] | None = None,
     wall = np.zeros(count)
     previous = numba.get_num_threads()
     if threads:
-        numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
+        numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))  # type: ignore[attr-defined]  # set at import
     numba.set_parallel_chunksize(1)   # one run per thread at a time: runs differ in length
     try:
         _run_batch(floats, switches, points, n_points, z0, dt, steps, methods, guards,

@@ -61,30 +61,32 @@ def _derive(body: Body) -> MassProperties:
     m = body.mass
     if body.shape == "point":
         # Algorithm 1: touches the ground when y < contact_height, i.e. a point at (0, -h).
-        pts = np.array([[0.0, -body.contact_height]])
+        pts = np.array([[0.0, -body.of_shape("contact_height")]])
         return MassProperties(m, 0.0, (0.0, 0.0), pts, rotates=False, points_rotate=False)
     if body.shape == "box":
-        w, h = body.size
+        w, h = body.of_shape("size")
         return MassProperties(m, box_inertia(m, w, h), (0.0, 0.0), box_corners(w, h),
                               rotates=True, points_rotate=True)
     if body.shape == "circle":
         # Algorithm 4: one contact point r = [0, -R] beneath the centre, whatever theta.
-        R = body.radius
+        R = body.of_shape("radius")
         return MassProperties(m, disk_inertia(m, R), (0.0, 0.0), np.array([[0.0, -R]]),
                               rotates=True, points_rotate=False)
     # Algorithm 3: total mass, COM, inertia about the COM by the parallel-axis theorem
     # I = sum_j [ m_j (w_j^2 + h_j^2) / 12 + m_j |o_j - com|^2 ]; every part's corners.
-    masses = np.array([p.mass for p in body.parts])
-    offsets = np.array([p.offset for p in body.parts], dtype=float)
+    parts = body.of_shape("parts")
+    masses = np.array([p.mass for p in parts])
+    offsets = np.array([p.offset for p in parts], dtype=float)
     com = masses @ offsets / masses.sum()
     inertia = 0.0
-    pts = []
-    for p, o in zip(body.parts, offsets):
+    corners: list[np.ndarray] = []
+    for p, o in zip(parts, offsets):
         rel = o - com
-        inertia += box_inertia(p.mass, *p.size) + p.mass * float(rel @ rel)
-        pts.append(box_corners(*p.size, centre=rel))
+        w, h = p.size
+        inertia += box_inertia(p.mass, w, h) + p.mass * float(rel @ rel)
+        corners.append(box_corners(w, h, centre=rel))
     return MassProperties(float(masses.sum()), inertia, (float(com[0]), float(com[1])),
-                          np.vstack(pts), rotates=True, points_rotate=True)
+                          np.vstack(corners), rotates=True, points_rotate=True)
 
 
 def contact_points_world(props: MassProperties, x, y, theta):

@@ -11,6 +11,7 @@ compiling it again at the same time; warm_up_in_parallel() splits it over two pr
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import sys
 import time
@@ -25,12 +26,16 @@ def cache_folder() -> Path:
     NUMBA_CACHE_DIR when that is set."""
     try:
         from .forces import tanh
-        return Path(tanh._cache._cache_path)
+        return Path(tanh._cache._cache_path)  # type: ignore[attr-defined]  # numba types no _cache
     except Exception:  # another numba layout: its default, in-tree
         return PACKAGE / "__pycache__"
 
 
-def clear_if_sources_changed() -> None:
+@functools.cache
+def fresh_cache() -> None:
+    """Clear numba's cache of this package when any of its sources changed since the cache was
+    written: once per process, before the first compiled call (model.build_model, which every
+    run starts from, calls it; importing the package writes nothing)."""
     clear_stale(cache_folder(), sorted(PACKAGE.glob("*.py")), "numba_sources.sha256", "*")
 
 
@@ -82,6 +87,7 @@ def warm_up(stream=None, part=None) -> float:
     from .runner import blowup_guard, simulate
 
     start = time.perf_counter()
+    fresh_cache()
     if needs_compiling():
         print(COMPILING_MESSAGE, file=stream or sys.stderr, flush=True)
     scene = parse_scene({"name": "warm_up", "duration": 2e-4, "dt": 1e-4,
@@ -107,6 +113,7 @@ def warm_up_in_parallel(stream=None, meanwhile=None) -> float:
     from .integrators import INTEGRATORS
 
     start = time.perf_counter()
+    fresh_cache()
     other = None
     if needs_compiling():
         print(COMPILING_MESSAGE, file=stream or sys.stderr, flush=True)

@@ -13,6 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .bodies import MassProperties, mass_properties
+from .compile_cache import fresh_cache
 from scene_types.schema import Scene
 
 # Law codes (scene_types.laws names the families; forces.py writes their formulas). Code 0 is
@@ -53,7 +54,9 @@ def _taken(value, on: bool) -> float:
 
 
 def build_model(scene: Scene, props: MassProperties | None = None) -> tuple[Model, np.ndarray]:
-    """The compiled loop's model and the contact points (n, 2) relative to the COM (m)."""
+    """The compiled loop's model and the contact points (n, 2) relative to the COM (m). Every
+    compiled run starts from one, so numba's cache is checked against the sources here."""
+    fresh_cache()
     props = props or mass_properties(scene.body)
     ct = scene.contact
     on = scene.has

@@ -99,7 +99,7 @@ def new_watch(props) -> np.ndarray:
 
 def failure(scene: Scene, step: int, state: np.ndarray, watch: np.ndarray) -> SimulationDiverged:
     """The exception for a run that integrate stopped at `step`: chatter if a point is flagged."""
-    flagged = np.flatnonzero(watch[:, FLAG]) if len(watch) else ()
+    flagged = np.flatnonzero(watch[:, FLAG]) if len(watch) else np.zeros(0, dtype=np.int64)
     if len(flagged):
         p = int(flagged[0])
         return SimulationChattered(scene, scene.integrator, scene.dt, step, state, p,

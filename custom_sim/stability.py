@@ -170,7 +170,8 @@ def load_profile(damping: float, law: str) -> np.ndarray:
     In units of v_n sqrt(k m_n). The unclamped law is taken as the linear one: its pull after
     the clamp's release is what no load bound needs."""
     h = PROFILE_STEP
-    x, v, out = 0.0, 1.0, []
+    x, v = 0.0, 1.0
+    out: list[float] = []
     while len(out) < 10 ** 6:
         f = unit_load(x, v, damping, law)
         if f <= 0.0 and out and (x <= 0.0 or law != "hunt_crossley"):
@@ -483,7 +484,7 @@ def stable_step(scene: Scene, integrator: str | None = None) -> StableStep:
     modes = {m: h for m, h in limit_modes(scene, integrator).items() if math.isfinite(h)}
     if not modes:
         return StableStep(math.inf)
-    mode = min(modes, key=modes.get)
+    mode = min(modes, key=modes.__getitem__)
     h = modes[mode]
     reason = unstable_law(scene, integrator) if h == 0.0 and "sign law" in mode else mode
     return StableStep(h, reason or mode)

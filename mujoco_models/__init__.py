@@ -13,14 +13,7 @@ custom_sim: only the shared types (scene_types: the scene, its law, the Trajecto
 
 The whole design: docs/mujoco-twins.md.
 """
-import mujoco as _mujoco
-
-# MuJoCo's warnings (a bad acceleration, ...) are counted in mjData.warning, which every run
-# here reads; its default handler would also print them and write MUJOCO_LOG.TXT into the
-# user's working folder
-_mujoco.set_mju_user_warning(lambda message: None)
-
-from .dynamics import simulate_dynamics  # noqa: E402
+from .dynamics import simulate_dynamics
 from .rigid_body import RigidBody, rigid_body
 from .run import MujocoDiverged, simulate_mujoco
 from .solref import MAPPINGS, ContactParameters, contact_parameters, solref_for

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import mujoco
 
+from .quiet import count_warnings_quietly
 from .rigid_body import RigidBody, rigid_body
 from scene_types.schema import Scene
 
@@ -88,6 +89,7 @@ def build_twin(scene: Scene, solref: str | None = None, *, integrator: str | Non
     pairs: native | normal | none (module docstring)."""
     if pairs not in PAIRS:
         raise ValueError(f"unknown contact pairs {pairs!r} (expected one of: {', '.join(PAIRS)})")
+    count_warnings_quietly()
     mapping = solref or scene.mujoco.solref
     integrator, dt = resolve_settings(scene, integrator, dt)
     props = rigid_body(scene.body)

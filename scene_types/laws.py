@@ -16,7 +16,7 @@ ROLL_LAWS = ("tanh", "sign")
 
 # the [contact] field that names each effect's law, and the parameters each family takes
 # beyond the ones every family of that effect shares (k for the normal force, mu, mu_roll)
-LAW_PARAMETERS = {
+LAW_PARAMETERS: dict[str, dict[str, tuple[str, ...]]] = {
     "damping_law": {"compression": ("c",), "linear": ("c",), "unclamped": ("c",),
                     "hunt_crossley": ("dissipation",)},
     "friction_law": {"tanh": ("alpha",), "ramp": ("alpha",), "smooth_coulomb": ("alpha",), "sign": ()},

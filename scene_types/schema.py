@@ -43,6 +43,14 @@ class Body:
     contact_height: float | None = None
     parts: tuple[Part, ...] | None = None
 
+    def of_shape(self, name: str) -> Any:
+        """A field the body's shape sets (the schema guarantees it); an error, not None, when
+        asked for another shape's field."""
+        value = getattr(self, name)
+        if value is None:
+            raise AttributeError(f"a {self.shape} body has no {name}")
+        return value
+
 
 @dataclass(frozen=True)
 class Contact:
@@ -236,11 +244,11 @@ def _contact_points(body: Body) -> tuple[list[tuple[float, float]], bool]:
     body: the placement check's own reading of the seed's geometry (a box's and each part's
     corners, the point at (0, -contact_height), the disk's point below its centre)."""
     if body.shape == "point":
-        return [(0.0, -body.contact_height)], False
+        return [(0.0, -body.of_shape("contact_height"))], False
     if body.shape == "circle":
-        return [(0.0, -body.radius)], False
-    boxes = [((0.0, 0.0), body.size, body.mass)] if body.shape == "box" else \
-        [(p.offset, p.size, p.mass) for p in body.parts]
+        return [(0.0, -body.of_shape("radius"))], False
+    boxes = [((0.0, 0.0), body.of_shape("size"), body.mass)] if body.shape == "box" else \
+        [(p.offset, p.size, p.mass) for p in body.of_shape("parts")]
     total = sum(m for _, _, m in boxes)
     cx = sum(o[0] * m for o, _, m in boxes) / total
     cy = sum(o[1] * m for o, _, m in boxes) / total

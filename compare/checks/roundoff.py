@@ -23,7 +23,7 @@ tolerance passes HORIZON_FRACTION of the motion's size, the rows from there on a
 from __future__ import annotations
 
 import dataclasses
-from functools import lru_cache
+from functools import cache, lru_cache
 
 import numpy as np
 
@@ -49,10 +49,12 @@ HORIZON_FRACTION = 1e-3
 EPS = float(np.finfo(float).eps)
 
 
+@cache
 def _clear_stale_kernel() -> None:
     """The kernel below inlines custom_sim's step functions, and numba checks a cached function
     against its own file only: clear its cache when this file or any custom_sim source changes
-    (as custom_sim/compile_cache.py does for custom_sim's own)."""
+    (as custom_sim/compile_cache.py does for custom_sim's own); once per process, before the
+    first kernel runs."""
     from pathlib import Path
 
     import custom_sim
@@ -150,11 +152,11 @@ def _rk4_rounded(model, points, z, h, n, noise, out):
 _ROUNDED = {"explicit_euler": lambda *run: _euler_rounded(*run, False),
             "semi_implicit_euler": lambda *run: _euler_rounded(*run, True),
             "implicit_euler": _implicit_euler_rounded, "rk4": _rk4_rounded}
-_clear_stale_kernel()   # before any kernel loads from the cache
 
 
 def _injected_run(scene: Scene, seed: int, implicit: bool) -> np.ndarray:
     """custom_sim stepped with random per-step rounding added to each component."""
+    _clear_stale_kernel()
     n = scene.steps
     rng = np.random.default_rng(seed)
     noise = np.zeros((n, 9))

@@ -59,6 +59,7 @@ class Result:
     error: str | None = None                          # why no verdict could be reached
     unstable: bool = False                            # the error is a divergence or chatter
     error_details: str = ""                           # the user's own traceback, where their code raised
+    skipped: str | None = None                        # why the user's code does not do this scene (never judged)
     keeps_state: str | None = None                    # a step function whose answer depends on earlier calls
     law_differences: list = field(default_factory=list)  # `run --law`: each effect that differs from the scene's
     balances: dict = field(default_factory=dict)      # simulator -> compare.energy.Balance (E, W, R)
@@ -85,6 +86,8 @@ class Result:
 
     @property
     def status(self) -> str:
+        if self.skipped:
+            return "skipped"
         if self.error:
             return "unstable" if self.unstable else "error"
         if not self.judged:
@@ -111,13 +114,15 @@ def unstable_row(name: str, integrator: str, why: str) -> CheckRow:
 def run_scenario(scene: Scene, simulator=None) -> Result:
     """Run every check of the scene on custom_sim (simulator None) or on a user's simulator
     (compare.usersim); MuJoCo with every solref mapping beside."""
-    from ..usersim import UserFault
+    from ..usersim import SceneSkipped, UserFault
     from ..usersim.errors import UserDiverged
 
     result = Result(scene)
     result.case = Case(scene)
     try:
         _run(result, result.case, simulator)
+    except SceneSkipped as exc:   # the user's code does not do this scene: nothing judged, nothing fails
+        result.skipped, result.simulator = exc.reason, simulator.name
     except SimulationDiverged as exc:
         result.error, result.unstable = str(exc), True
     except UserFault as exc:  # the user's code failed on this scene: its row, the others go on
@@ -160,18 +165,19 @@ def runs_under_test(result: Result, case: Case, simulator) -> dict:
     """custom_sim's four runs, and the simulator under test's (custom_sim's own, or the user's
     with its warnings and whether its step keeps state): {integrator: Trajectory or divergence}."""
     scene = result.scene
+    if simulator is not None:   # first: a scene the user's code skips runs nothing else
+        from ..usersim import run_user
+        from ..usersim.purity import keeps_state
+        result.simulator = simulator.name
+        with warnings.catch_warnings(record=True) as said:   # e.g. float32 states: onto the page
+            warnings.simplefilter("always", UserWarning)
+            result.under_test = run_user(simulator, scene)
+        result.warnings += [str(w.message) for w in said if issubclass(w.category, UserWarning)]
     result.runs = custom_runs(case)
     result.custom = case.trajectory()   # raises the scene's own divergence
     if simulator is None:
         result.under_test = result.custom
         return dict(result.runs)
-    from ..usersim import run_user
-    from ..usersim.purity import keeps_state
-    result.simulator = simulator.name
-    with warnings.catch_warnings(record=True) as said:   # e.g. float32 states: onto the page
-        warnings.simplefilter("always", UserWarning)
-        result.under_test = run_user(simulator, scene)
-    result.warnings += [str(w.message) for w in said if issubclass(w.category, UserWarning)]
     result.keeps_state = keeps_state(simulator, scene, result.under_test.states())
     if result.keeps_state:
         result.warnings.append(result.keeps_state)
@@ -354,13 +360,13 @@ def contact_row(case: Case, simulator, under_test: Trajectory | None = None) -> 
                           f"(the linear law), and this check runs your code on the scene with that law; the law "
                           f"judged here, {scene.contact.damping_law}, has no such form in MuJoCo, and code written "
                           f"for it need not follow the variant: the dynamics check runs your law itself in MuJoCo")
-    from ..usersim import UserCodeError, UserFault, run_user
+    from ..usersim import SceneSkipped, UserCodeError, UserFault, run_user
     from ..usersim.guard import EndedProcess
     try:
         states = run_user(simulator, variant).states()
     except EndedProcess:
         raise
-    except (UserFault, UserCodeError) as exc:
+    except (UserFault, UserCodeError, SceneSkipped) as exc:
         return not_judged(integrator, f"your simulator did not run the variant this check needs (friction and rolling "
                           f"resistance off, the linear damping law): {exc}")
     return check_contact(scene, states, integrator, case=case)
@@ -475,6 +481,17 @@ def metrics_json(result: Result) -> dict:
         "law": law_json(result),
         "energy_balance": {name: {**metrics_block(b), "rule": b.rule} for name, b in result.balances.items()},
     }
+
+
+def skipped_json(result: Result) -> dict:
+    """metrics.json of a scene the user's code skipped: what the scene is, the status and the
+    reason; no check (none was judged, nothing ran)."""
+    scene = result.scene
+    return {"name": scene.name, "integrator": scene.integrator, "dt": scene.dt, "steps": scene.steps,
+            "status": "skipped", "skipped": result.skipped, "pass": None, "checks": [],
+            "simulator": result.simulator, "description": scene.description, "shape": scene.body.shape,
+            "effects": list(scene.effects), "law": {"from": scene.law_from or "scene",
+                                                    "judged": dataclasses.asdict(scene.contact)}}
 
 
 def law_json(result: Result) -> dict:

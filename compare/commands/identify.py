@@ -12,9 +12,11 @@ round-off; otherwise the law is null and the closest family is given. With --who
 (simulate(scene) -> array (steps + 1, 6)) or --trajectories (DIR/<scene>.csv), the same by
 regression over the steps the run visited, to the rounding the file allows, saying which
 effects the run never exercised. SCENE: built-in names or .toml paths (default: every built-in).
-Exit status: 0 every exercised effect is the scene's own law; 1 one is not; 2 bad input (a
-module or function that does not load, a step that raises or returns no state). See
-docs/identify.md.
+A scene the simulator does not do (its module's SHAPES, a step raising NotImplementedError) is
+a line `SCENE  skipped  REASON` ({"scene", "skipped"} with --json). Exit status: 0 every
+exercised effect is the scene's own law; 1 one is not, or every scene was skipped; 2 bad input
+(a module or function that does not load, a step that raises or returns no state: that scene's
+one line, with its name, and the other scenes identified). See docs/identify.md.
 """
 from __future__ import annotations
 
@@ -32,13 +34,16 @@ def add_arguments(parser) -> None:
                        help="FUNCTION is simulate(scene) -> array (steps + 1, 6): regression over its run")
     which.add_argument("--trajectories", metavar="DIR",
                        help="DIR/<scene>.csv (t,x,y,theta,vx,vy,omega): regression over each file's steps")
+    which.add_argument("--sim-process", metavar="COMMAND",
+                       help="a step function in any language on stdin/stdout (docs/process-protocol.md): "
+                            "designed probes as for a Python step; then scenes only")
 
 
-def _one_line(exc) -> None:
-    """Bad input without the user's traceback: identify answers in one line (naming the
-    MODULE:FUNCTION it was given, which `run` calls --sim)."""
+def _one_line(exc, scene: str = "") -> None:
+    """Bad input without the user's traceback: identify answers in one line (naming the scene,
+    and the MODULE:FUNCTION it was given, which `run` calls --sim)."""
     from scene_types import BadInput
-    raise BadInput(str(exc).removeprefix("--sim ")) from None
+    raise BadInput((f"{scene}: " if scene else "") + str(exc).removeprefix("--sim ")) from None
 
 
 def main(args) -> int:
@@ -47,10 +52,10 @@ def main(args) -> int:
     from ..identify import identify
     from ..identify.report import as_json, text
     from ..scenarios import load_all
-    from ..usersim import UserCodeError, UserFault, load_simulator
+    from ..usersim import SceneSkipped, UserCodeError, UserFault, load_simulator
 
     targets = list(args.targets)
-    if args.trajectories is None:
+    if args.trajectories is None and args.sim_process is None:
         if not targets:
             raise BadInput("identify: expected MODULE:FUNCTION (a step function, or with --whole a simulate "
                            "function) or --trajectories DIR")
@@ -58,20 +63,33 @@ def main(args) -> int:
     else:
         spec, scenes = None, targets
     try:
-        simulator = load_simulator(spec, args.whole, args.trajectories)
+        simulator = load_simulator(spec, args.whole, args.trajectories, args.sim_process)
     except UserCodeError as exc:
         _one_line(exc)
     scene_list = load_all(scenes)
-    status = 0
+    status, skipped, failed = 0, 0, False
     for scene in scene_list:
         try:
             result = identify(simulator, scene)
-        except (UserCodeError, UserFault) as exc:
-            _one_line(exc)
+        except SceneSkipped as exc:   # a scene the code does not do: said, and nothing fails
+            skipped += 1
+            print(as_json({"scene": scene.name, "skipped": exc.reason}) if args.json
+                  else f"{scene.name}  skipped  {exc.reason}\n", flush=True)
+            continue
+        except (UserCodeError, UserFault) as exc:   # this scene's: said once, with its scene; the others go on
+            failed = True
+            message = str(exc).removeprefix("--sim ")
+            if args.json:
+                print(as_json({"scene": scene.name, "error": message}), flush=True)
+            else:
+                print(f"error: {scene.name}: {message}", file=sys.stderr, flush=True)
+            continue
         if any(v is False for v in result["matches_scene"].values()):
             status = 1
         print(as_json(result) if args.json else text(result) + "\n", flush=True)
-    return status
+    if failed:
+        return 2
+    return 1 if skipped == len(scene_list) else status
 
 
 if __name__ == "__main__":   # not an entry point of its own: `python -m compare identify` is

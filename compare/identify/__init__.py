@@ -8,7 +8,12 @@ __all__ = ["NotIdentified", "identified_contact", "identified_scene", "identify"
 
 def identify(simulator, scene) -> dict:
     """The identification of one scene for the simulator under test (compare.usersim): from
-    designed calls of a step function, else by regression over its run (a whole run, CSVs)."""
+    designed calls of a step function, else by regression over its run (a whole run, CSVs).
+    SceneSkipped for a scene the simulator does not do (its SHAPES: before any call)."""
+    from ..usersim.errors import SceneSkipped
+    reason = simulator.skip_reason(scene) if hasattr(simulator, "skip_reason") else None
+    if reason:
+        raise SceneSkipped(reason)
     if simulator.kind == "step":
         return identify_step(simulator, scene)
     run = simulator.run(scene)

@@ -6,7 +6,7 @@ import contextlib
 import numpy as np
 
 from ..usersim.base import STATE, _state_text
-from ..usersim.errors import UserCodeError, one_line
+from ..usersim.errors import UserCodeError, UserFault, not_implemented, one_line
 from ..usersim.functions import StepFunction, as_state
 from ..usersim.guard import user_code
 from ..usersim.scene_dict import scene_dict
@@ -16,7 +16,8 @@ class StepCalls:
     """A step function called from the states identification designs, from a fresh import of
     its module (as every scene's run starts). A step that raises, returns anything but 6 real
     numbers, or returns a non-finite state is bad input: UserCodeError naming the function, the
-    probe, the state and the step (one line, no traceback).
+    probe, the state and the step (one line, no traceback); one that raises NotImplementedError
+    does not do the scene: SceneSkipped.
 
     Each call runs inside usersim's guard; `session()` holds one guard around many calls (the
     guard puts numpy's error state, the working folder and matplotlib's settings back when it
@@ -53,8 +54,12 @@ class StepCalls:
         with self.session():
             try:
                 out = self.simulator.function(np.array(z0, dtype=float), self.scene_d, float(h))
+            except NotImplementedError as exc:   # the step does not do this scene: skipped
+                raise not_implemented(exc) from None
+            except UserFault as exc:   # a process's fault (process.py): its one line, with the probe
+                raise UserCodeError(f"{where}: {exc}") from None
             except Exception as exc:  # noqa: BLE001 - any fault of the user's step is bad input here
-                raise UserCodeError(f"{where} raised {one_line(exc)} (expected a state {STATE})") from None
+                raise UserCodeError(f"{where} raised {one_line(exc)}") from None
         z1, _ = as_state(out, where)
         if not np.all(np.isfinite(z1)):
             raise UserCodeError(f"{where} returned a non-finite state {_state_text(z1)} (expected 6 finite numbers "

@@ -70,6 +70,60 @@ def linear_solve(A: np.ndarray, b: np.ndarray, w: np.ndarray) -> np.ndarray:
     return x
 
 
+# A parameter's resolution is read from a change this small (relative to the parameter, or to 1
+# where it is 0): small enough that the force is linear in it, far above its own rounding.
+RESOLUTION_STEP = 1e-6
+
+
+def resolution(model, x, bound: np.ndarray) -> tuple[float, ...]:
+    """Per parameter of x, the change that moves model(x) (n,) by its round-off bound (n,) at
+    some row: what the probes resolve of it (inf where no row depends on it)."""
+    x = np.asarray(x, dtype=float)
+    base = model(x)
+    b = np.maximum(np.asarray(bound, dtype=float), np.finfo(float).tiny)
+    out = []
+    for j in range(x.size):
+        step = RESOLUTION_STEP * max(abs(x[j]), 1.0)
+        moved = x.copy()
+        moved[j] += step
+        slope = np.max(np.abs(model(moved) - base) / b) if base.size else 0.0
+        out.append(float(step / slope) if slope > 0 and np.isfinite(slope) else float("inf"))
+    return tuple(out)
+
+
+def resolved(value: float, res: float | None, finer: int = 0) -> float:
+    """value rounded to the decade of its resolution res (finer: that many decades below)."""
+    if res is None or not np.isfinite(res) or res <= 0 or not np.isfinite(value):
+        return value
+    decimals = int(finer - np.floor(np.log10(res)))
+    return float(round(float(value), decimals)) + 0.0   # decimal rounding: 0.1, not 0.09999999999999999
+
+
+# Decades below a parameter's resolution tried before its fitted digits are kept whole.
+ROUNDING_DECADES = 4
+
+
+def rounded(x, res, relative_of, relative: float) -> tuple[float, ...]:
+    """x rounded to the digits the probes carry (0.49999999999999906 is 0.5, a c of 2e-21
+    N s/m is 0): the coarsest of the decades of each parameter's resolution (res) and the few
+    below whose law still reproduces the rows as well (relative_of(x) <= 1 for a family that
+    fits, no more than its fitted relative otherwise); x itself where none does."""
+    x = tuple(float(v) for v in x)
+    allowed = 1.0 if relative <= 1.0 else relative * (1.0 + 1e-9)
+    for finer in range(ROUNDING_DECADES):
+        cand = tuple(resolved(v, r, finer) for v, r in zip(x, res))
+        if cand == x:
+            return cand
+        try:
+            with np.errstate(all="ignore"):
+                rel = relative_of(cand)
+        except (ZeroDivisionError, FloatingPointError, ValueError):   # a sharpness rounded to 0
+            continue
+        if rel <= allowed:
+            return cand
+    return x
+
+
 def worst(residual: np.ndarray, bound: np.ndarray) -> tuple[float, float]:
     """(largest |residual|, largest |residual| / bound); (0, 0) over no rows."""
     residual, bound = np.abs(np.ravel(residual)), np.ravel(bound)

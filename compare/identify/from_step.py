@@ -7,17 +7,18 @@ import numpy as np
 
 from custom_sim import Scene
 
-from . import forward
+from . import forward, roundoff
 from .calls import StepCalls
 from .families import FAMILIES, Family, scene_family
-from .fit import Fit, choose, weights, worst
+from .fit import Fit, choose, rounded, weights, worst
 from .geometry import Geometry
 from .integrators import evaluated_at
 from .model import Law
 from .observed import Rows, TorqueRows, fit_effect, fit_torque, model_of, torque_model
 from .onset import OnsetSearch
 from .probes import Probes, Scales, contact_states, flight, pairs
-from .result import body_entry, effect_entry, gravity_entry, integrator_entry, not_exercised
+from .replay import keeps_state
+from .result import body_entry, effect_entry, settle_body, gravity_entry, integrator_entry, not_exercised
 from .roundoff import inertias, rate_bound
 from .stepping import contact_shown, decide, integrator_tests, rates, restart_states
 
@@ -37,12 +38,14 @@ def scene_law(scene: Scene, scene_d: dict, geometry: Geometry | None = None) -> 
 
 def _gravity(law: Law, F: Probes) -> tuple[float, float, float, float]:
     """(g m/s^2, largest residual m/s^2, relative, the scene's g relative) from the flight
-    steps: a = (0, -g, 0) to round-off."""
+    steps: a = (0, -g, 0) to round-off; g rounded to the digits the steps carry (fit.rounded)."""
     a = rates(F)
     M = inertias(law)
     b = rate_bound(law.with_(normal=None), "semi_implicit_euler", F.Z0, F.Z1, F.H) / M
     w = weights(b[:, 1])
     g = float(np.sum(-a[:, 1] * w) / np.sum(w))
+    r, rel = worst(a - np.array([0.0, -g, 0.0]), b)
+    (g,) = rounded((g,), (float(np.min(b[:, 1])),), lambda p: worst(a - np.array([0.0, -p[0], 0.0]), b)[1], rel)
     r, rel = worst(a - np.array([0.0, -g, 0.0]), b)
     return g, r, rel, worst(a - np.array([0.0, -law.g, 0.0]), b)[1]
 
@@ -59,11 +62,20 @@ class StepIdentification:
         self.law_scene = scene_law(scene, self.sd, self.geometry_scene)
 
     def run(self) -> dict:
+        try:
+            return self._run()
+        finally:
+            roundoff.set_single_precision(False)
+
+    def _run(self) -> dict:
         start = time.perf_counter()
         scene, law_s = self.scene, self.law_scene
         out = {"scene": scene.name, "from": "step"}
         F = flight(self.geometry_scene, self.scales)
         F.Z1 = self.calls.many(F.Z0, F.H, "flight")
+        # float32 arithmetic behind float64 returns: every bound below in single precision
+        out["precision"] = "float32" if roundoff.is_float32(F.Z0, F.Z1) else "float64"
+        roundoff.set_single_precision(out["precision"] == "float32")
         g, g_res, g_rel, g_scene = _gravity(law_s, F)
         out["gravity"] = gravity_entry(g, g_res, g_rel, g_scene)
         g_use = g if g_rel <= 1.0 else law_s.g
@@ -72,6 +84,15 @@ class StepIdentification:
         if contact:
             P2 = pairs(self.geometry_scene, self.scales)
             P2.Z1 = self.calls.many(P2.Z0, P2.H, "contact at dt and dt/2")
+        # purity before any law: the probes so far (flight, contact) replayed out of order
+        made = [F] if P2 is None else [F, P2]
+        with self.calls.session():
+            stateful = keeps_state(self.calls, np.vstack([p.Z0 for p in made]),
+                                   np.concatenate([np.broadcast_to(p.H, (len(p),)) for p in made]),
+                                   np.vstack([p.Z1 for p in made]), "flight and contact")
+        if stateful:
+            return self._from_run(stateful)
+        if contact:
             Zr, Hr = restart_states(P2)
             restart = ((Zr, Hr), self.calls.many(Zr, Hr, "implicit Euler restart"))
         law0 = law_s.with_(g=g_use)
@@ -110,10 +131,23 @@ class StepIdentification:
                 out[effect] = effect_entry(effect, *fits[effect], fits["scene_" + effect])
         out["body"] = body_entry(law_s, fits["body"], found, missing, scene, turn=turn,
                                  rotates=self.geometry_scene.rotates)
+        # Euler: the torque rests on the forces read off the step and the rolling law fitted beside
+        # the inertia; RK4: on every law found, stepped here
+        settle_body(out, ("normal", "friction", "rolling") if used == "rk4" else ("rolling",))
         return self._finish(out, start)
+
+    def _from_run(self, why: str) -> dict:
+        """A step that keeps state: identified by regression over its own sequential run from the
+        scene's start (the --whole route), where that run allows."""
+        from .whole_run import identify_run
+        run = self.calls.simulator.run(self.scene)
+        out = identify_run(run.states, self.scene, run.rounding, "run")
+        out.update(keeps_state=True, keeps_state_why=why, calls=self.calls.count)
+        return out
 
     def _finish(self, out: dict, start: float) -> dict:
         from .result import matches
+        out["keeps_state"] = False
         out["matches_scene"] = matches(out, self.scene)
         out["calls"] = self.calls.count
         out["seconds"] = time.perf_counter() - start
@@ -202,8 +236,15 @@ class StepIdentification:
         roll = P.kind == "rolling"
         fams = FAMILIES["rolling"] if law.rolling is not None else (None,)
         fits, bodies = [], []
+        moving = np.abs(rows_all.alpha) > 0
+        # what the torques resolve of the inertia: the change that moves some row by its bound
+        i_res = float(np.min(rows_all.bound[moving] / np.abs(rows_all.alpha[moving]))) if moving.any() else None
         for fam in fams:
             resid, inertia, lx, p = fit_torque(rows_all, fam, law.inertia)
+            br, brel = worst(resid[~roll], rows_all.bound[~roll])
+            (inertia,) = rounded((inertia,), (i_res,), lambda q: worst(
+                self._torque_at(rows_all, fam, p, q[0], lx)[~roll], rows_all.bound[~roll])[1], brel)
+            resid = self._torque_at(rows_all, fam, p, inertia, lx)
             rr, rrel = worst(resid[roll], rows_all.bound[roll])
             br, brel = worst(resid[~roll], rows_all.bound[~roll])
             if fam is not None:

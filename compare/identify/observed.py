@@ -6,7 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .families import Family
-from .fit import PARAMETER_FLOOR, SHARPNESS_GRID, Fit, linear_solve, polish, worst
+from .fit import PARAMETER_FLOOR, SHARPNESS_GRID, Fit, linear_solve, polish, resolution, rounded, worst
 
 
 @dataclass
@@ -70,7 +70,9 @@ def fit_family(fam: Family, rows: Rows, bound_of=None) -> Fit:
     x = polish(fun, x0, np.full(len(fam.params), PARAMETER_FLOOR))
     bound = rows.bound if bound_of is None else np.maximum(rows.bound, bound_of(fam, tuple(x)))
     residual, relative = worst(rows.target - model_of(fam, rows, x), bound)
-    return Fit(fam, tuple(float(v) for v in x), residual, relative)
+    res = resolution(lambda p: model_of(fam, rows, p), x, bound)
+    shown = rounded(x, res, lambda p: worst(rows.target - model_of(fam, rows, p), bound)[1], relative)
+    return Fit(fam, tuple(float(v) for v in x), residual, relative, {"shown": shown})
 
 
 def fit_effect(families, rows: Rows, bound_of=None) -> list[Fit]:

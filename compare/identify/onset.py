@@ -8,7 +8,7 @@ import numpy as np
 from .geometry import Geometry
 from .integrators import FALL_SHARE, READS_AT_END
 from .probes import Scales, onset_angles
-from .roundoff import EPS, POINT_ULPS
+from .roundoff import POINT_ULPS, eps
 
 # Steps of doubling tried to bracket the onset, up or down from the scene's own point.
 BRACKET_TRIES = 12
@@ -96,8 +96,9 @@ class OnsetSearch:
             ry = -(ys - self.shift)
             # plus the depth whose force first shows in v1 = v0 - g h + h Fn / m: an ulp of the
             # weight's share, Fn = k d ~ eps m g, a depth of eps m g / k (the resting depth's eps)
-            bound = (POINT_ULPS * EPS * (np.abs(ys) + np.hypot(*self.geometry.points[i])) + 4.0 * EPS * self.shift
-                     + POINT_ULPS * EPS * self.scales.depth)
+            unit = eps()   # float32 arithmetic: its own eps
+            bound = (POINT_ULPS * unit * (np.abs(ys) + np.hypot(*self.geometry.points[i])) + 4.0 * unit * self.shift
+                     + POINT_ULPS * unit * self.scales.depth)
             found.append(self._fit(i, np.array(angles), ry, bound))
         turn = None
         if found:

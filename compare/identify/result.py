@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from .fit import Fit
+from .fit import Fit, resolved
 
 # Each effect's parameters in the answer, and the value one its family does not take holds
 # (as in the scene's [contact]: c 0 under hunt_crossley, dissipation 0 otherwise, alpha and
@@ -23,8 +23,11 @@ def _num(x):
 
 
 def _params(effect: str, fit: Fit) -> dict:
+    """The family's parameters, rounded to what the probes resolve of them where that is known
+    (fit.extra["shown"]: the designed Euler fits, fit.rounded)."""
     out = dict(PARAMETERS[effect])
-    out.update({k: _num(v) for k, v in fit.named.items()})
+    shown = fit.extra.get("shown") or fit.params
+    out.update({k: _num(v) for k, v in zip(fit.family.params, shown)})
     return out
 
 
@@ -83,7 +86,8 @@ def body_entry(law_s, fit: dict | None, found, missing: list[int], scene, turn=N
             lx = fit["lx"]
         if lx is None:
             lx = float(law_s.geometry.points[f.index, 0])
-        pts[f.index] = [float(lx), float(ly)]
+        unc = np.where(np.isfinite(f.uncertainty), f.uncertainty, 0.0)   # digits below it are not the point's
+        pts[f.index] = [resolved(float(lx), float(unc[0]) or None), resolved(float(ly), float(unc[1]) or None)]
         worst_m, worst_rel = max(worst_m, f.residual), max(worst_rel, f.relative)
         unc = f.uncertainty
         want = law_s.geometry.points[f.index]
@@ -107,6 +111,24 @@ def body_entry(law_s, fit: dict | None, found, missing: list[int], scene, turn=N
                                and found is not None)
     out["scene_relative"] = None if fit is None else fit.get("scene_relative")
     return out
+
+
+def settle_body(out: dict, rests_on: tuple[str, ...]) -> None:
+    """The inertia is a finding only where it reproduces every torque (relative <= 1) and every
+    exercised effect whose force enters the torque (rests_on) is identified; otherwise
+    body.inertia is None and what was fitted moves under body.closest."""
+    b = out["body"]
+    if not b.get("rotates", True) or (b.get("inertia") is None and "closest" not in b):
+        return
+    failed = [e for e in rests_on if out.get(e, {}).get("exercised") and out[e].get("law") is None]
+    rel = b.get("relative")
+    if "closest" not in b and not failed and rel is not None and rel <= 1.0:
+        return
+    b.setdefault("closest", {"inertia": b["inertia"], "residual": b.get("residual"), "relative": rel})
+    b.update(inertia=None, residual=None, relative=None)
+    if failed and not b.get("why"):
+        b["why"] = (f"not identified: the {' and the '.join(failed)} fit{'s' if len(failed) == 1 else ''} no family, "
+                    "and {} force enters the torque".format("its" if len(failed) == 1 else "their"))
 
 
 def matches(out: dict, scene) -> dict:

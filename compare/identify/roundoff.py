@@ -27,6 +27,53 @@ POINT_ULPS = 8.0
 INPUT_ROUNDING_SAFETY = 2.0
 
 
+# A step that computes in float32 and hands back float64 (astype, float()) rounds every
+# operation to 24 bits: each ulp count above is then in single precision's eps (1.2e-7
+# relative, not 2.2e-16), and the state it is given is itself rounded to float32 on the way in
+# (half an ulp, 6e-8 relative), which the law carries like a file's rounding.
+FLOAT32_EPS = float(np.finfo(np.float32).eps)
+# Returned numbers that must differ from the state given before "every number a float32
+# value" says anything: a float64 step returns such numbers only where nothing moved.
+FLOAT32_MIN_CHANGED = 8
+_PRECISION = {"single": False}
+
+
+class SinglePrecision:
+    """The rounding of a state read in float32: half an ulp of each value (Rounding's interface)."""
+
+    def half_unit(self, values) -> np.ndarray:
+        return 0.5 * FLOAT32_EPS * np.abs(np.asarray(values, dtype=float))
+
+    def describe(self) -> str:
+        return "float32 arithmetic (6e-8 relative)"
+
+
+SINGLE = SinglePrecision()
+
+
+def is_float32(Z0: np.ndarray, Z1: np.ndarray) -> bool:
+    """Whether every number a step returned (Z1, from Z0) is exactly a float32 value, over
+    enough numbers that moved for that to be its arithmetic and not chance."""
+    Z0, Z1 = np.asarray(Z0, dtype=float), np.asarray(Z1, dtype=float)
+    with np.errstate(over="ignore"):
+        exact = np.all(Z1.astype(np.float32).astype(float) == Z1)
+    return bool(exact and np.count_nonzero(Z1 != Z0) >= FLOAT32_MIN_CHANGED)
+
+
+def set_single_precision(on: bool) -> None:
+    """Hold every bound below to float32 (on) or float64 round-off, until set again."""
+    _PRECISION["single"] = bool(on)
+
+
+def single_precision() -> bool:
+    return _PRECISION["single"]
+
+
+def eps() -> float:
+    """The unit round-off the step's arithmetic carries: float64's, or float32's."""
+    return FLOAT32_EPS if _PRECISION["single"] else EPS
+
+
 def inertias(law: Law) -> np.ndarray:
     """(m, m, I): what turns each channel's acceleration into a force (N) or torque (N m); the
     point mass's angular channel is scaled by 1 (it must not turn at all)."""
@@ -57,11 +104,14 @@ def rate_bound(law: Law, integrator: str, Z0: np.ndarray, Z1: np.ndarray, H: np.
     law: a caller with many candidate laws takes it once, from one law)."""
     H = np.asarray(H, dtype=float)[:, None]
     M = inertias(law)
+    unit = eps()
+    if rounding is None and single_precision():
+        rounding = SINGLE
     v0, v1 = np.abs(Z0[:, 3:]), np.abs(Z1[:, 3:])
-    rate = STATE_ULPS * EPS * (v0 + v1) / H
+    rate = STATE_ULPS * unit * (v0 + v1) / H
     Ze = evaluated_at(integrator, Z0, Z1)
     terms = force_terms(law, Ze) if Ze is not None else np.maximum(force_terms(law, Z0), force_terms(law, Z1))
-    bound = M * rate + FORCE_ULPS * EPS * terms
+    bound = M * rate + FORCE_ULPS * unit * terms
     at = Z1 if integrator == "implicit_euler" else Z0
     box = np.zeros_like(Z0)   # how far the state the step starts from (or ends at) may be off
     if integrator == "implicit_euler":
@@ -104,8 +154,10 @@ def position_bound(integrator: str, Z0: np.ndarray, Z1: np.ndarray, H: np.ndarra
     """The round-off bound (n, 3) in m and rad on q1 - (q0 + h v): the update's roundings, the
     implicit solve's tolerance carried by h, and a file's rounding of q0, q1, v0 and v1."""
     H = np.asarray(H, dtype=float)[:, None]
+    if rounding is None and single_precision():
+        rounding = SINGLE
     q0, q1, v0, v1 = (np.abs(a) for a in (Z0[:, :3], Z1[:, :3], Z0[:, 3:], Z1[:, 3:]))
-    bound = STATE_ULPS * EPS * (q0 + q1 + H * (v0 + v1))
+    bound = STATE_ULPS * eps() * (q0 + q1 + H * (v0 + v1))
     if integrator == "implicit_euler":
         bound = bound + H * IMPLICIT_SOLVE_TOL
     if rounding is not None:

@@ -7,14 +7,14 @@ import numpy as np
 
 from custom_sim import Scene
 
-from . import forward
+from . import forward, roundoff
 from .families import FAMILIES
 from .fit import Fit, choose, weights, worst
 from .from_step import EFFECT_OF, scene_law
 from .geometry import Geometry
 from .integrators import POSITION_SHARE, evaluated_at, position_residual
 from .model import Law, contacts
-from .result import body_entry, effect_entry, gravity_entry, integrator_entry, matches, not_exercised
+from .result import body_entry, effect_entry, settle_body, gravity_entry, integrator_entry, matches, not_exercised
 from .roundoff import inertias, position_bound, rate_bound
 from ..usersim.scene_dict import scene_dict
 
@@ -51,10 +51,19 @@ class RunIdentification:
         self._base = {}
 
     def run(self) -> dict:
+        try:
+            return self._run()
+        finally:
+            roundoff.set_single_precision(False)
+
+    def _run(self) -> dict:
         start = time.perf_counter()
         scene, law_s = self.scene, self.law_s
         Z0, Z1, H = self.Z0, self.Z1, self.H
         out = {"scene": scene.name, "from": self.source, "steps": len(Z0)}
+        # float32 arithmetic behind float64 numbers: every bound below in single precision
+        out["precision"] = "float32" if roundoff.is_float32(Z0, Z1) else "float64"
+        roundoff.set_single_precision(out["precision"] == "float32")
         flight = self._flight()
         out["flight_steps"] = int(flight.sum())
         # gravity from the flight steps
@@ -130,6 +139,7 @@ class RunIdentification:
         for effect in ("normal", "friction", "rolling"):
             out[effect] = res[effect]
         out["body"] = self._body_entry(res["body"])
+        settle_body(out, ("normal", "friction", "rolling"))
         return self._finish(out, start)
 
     def _bound(self, integrator: str, g: float) -> np.ndarray:
@@ -159,12 +169,16 @@ class RunIdentification:
         return res, rel
 
     def _finish(self, out, start):
+        out["keeps_state"] = False   # a run's states are read as given: no call is replayed
         out["matches_scene"] = matches(out, self.scene)
         out["seconds"] = time.perf_counter() - start
         return out
 
     def _body_entry(self, fit: dict | None) -> dict:
         b = body_entry(self.law_s, fit, None, [], self.scene, rotates=self.geometry.rotates)
+        b.update({k: fit[k] for k in ("closest", "why") if fit and k in fit})
+        if "closest" in b:
+            b["inertia"] = None
         b["contact_points"] = self.geometry.points.tolist()
         b["contact_points_from"] = "the scene (a run does not locate them)"
         b["points_match"] = True
@@ -222,7 +236,9 @@ class RunIdentification:
                 # the torque carries the friction (r_y Ft): with no friction law, an inertia and a
                 # rolling law fitted beside the closest one are no finding (an inertia of 0 fits)
                 why = "not identified: the friction fits no family, and its torque r_y Ft enters this channel"
-                body.update(residual=None, relative=None, why=why)
+                body["closest"] = {"inertia": body["inertia"], "residual": body["residual"],
+                                   "relative": body["relative"]}
+                body.update(inertia=None, residual=None, relative=None, why=why)
                 if entry.get("exercised"):
                     entry = {**entry, "law": None, "residual": None, "relative": None, "why": why,
                              "closest": entry.get("closest") or {"law": entry["law"], "residual": entry["residual"],
@@ -341,9 +357,9 @@ class RunIdentification:
             own = {"normal": c.fn, "friction": c.ft, "rolling": c.roll}[effect]
             acting |= np.abs(np.where(c.touching, own, 0.0).sum(axis=1)) > scale
         entry["steps_acting"] = int(np.sum(acting & touching))
-        if not entry["steps_acting"]:
-            entry["exercised"] = False
-            entry["why"] = f"no step of the run has a {effect} force above its round-off"
+        if not entry["steps_acting"]:   # nothing to read a law from: null, never the scene's or a fit to zero
+            entry = {**not_exercised(f"no step of the run has a {effect} force above its round-off"),
+                     "steps_acting": 0, "scene_relative": entry["scene_relative"]}
         elif also:
             entry["why"] = (f"the run never separates {', '.join([entry['law'], *also])}: "
                             "each reproduces every step")

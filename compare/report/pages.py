@@ -19,7 +19,7 @@ from . import plots
 from ..checks.law_difference import law_lines
 from ..checks.step_check import first_over
 from ..checks.row import CheckRow
-from ..checks.scenario import Result, metrics_json
+from ..checks.scenario import Result, metrics_json, skipped_json
 from ..table import DASH, markdown, number
 
 
@@ -67,6 +67,31 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
         # listed under "non_finite": never NaN or Infinity, which is not JSON, and never a crash
         (tmp / "metrics.json").write_text(finite_json(data, indent=2) + "\n")
         (tmp / "index.md").write_text(scenario_page(result, data, figures))
+        if final.exists():
+            shutil.rmtree(final)
+        os.replace(tmp, final)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return data
+
+
+def write_skipped(result: Result, out: Path) -> dict:
+    """Write DIR/<name>/ for a scene the user's code skipped (metrics.json, index.md saying why);
+    returns its metrics.json content."""
+    scene = result.scene
+    data = skipped_json(result)
+    final = out / scene.name
+    tmp = temporary_folder(out, prefix=f".{scene.name}.")
+    try:
+        (tmp / "metrics.json").write_text(finite_json(data, indent=2) + "\n")
+        (tmp / "index.md").write_text("\n".join([
+            f"# {scene.name}", "", scene.description, "",
+            f"**SKIPPED**: {result.skipped}.", "",
+            f"The simulator under test, **{result.simulator}**, does not do this scene (a {scene.body.shape} body): "
+            "none of its checks ran, and it fails nothing. A module says which bodies it does with "
+            "`SHAPES = (\"box\", ...)`; a step says it does not do a scene by raising `NotImplementedError(\"why\")` "
+            "(docs/validate-your-simulator.md).", ""]) + "\n")
         if final.exists():
             shutil.rmtree(final)
         os.replace(tmp, final)
@@ -275,7 +300,8 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
                                   own["residual_end"], sum(own["dissipated"].values()), twin["residual_end"],
                                   r["wall_time_custom"], r["wall_time_mujoco"])),
                       _status_cell(r, failed)])
-    table += [[name, *[""] * 12, f"**{status}**: {why}"] for name, status, why in failures]
+    table += [[f"[{name}]({name}/index.md)" if status == "skipped" else name, *[""] * 12, f"**{status}**: {why}"]
+              for name, status, why in failures]
     lines += markdown(INDEX_HEADERS, table).splitlines()
     lines += ["", "## Every judged check", ""]
     checks = [[r["name"], c.label, *map(_num, (c.position_error_max, c.tolerance_position, c.angle_error_max,

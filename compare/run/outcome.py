@@ -13,7 +13,7 @@ class Outcome:
     """What one scenario's process sent back: exactly one field is set."""
 
     row: dict | None = None            # metrics.json of a scenario that reached a verdict
-    failure: tuple | None = None       # (status, why): no verdict (error, unstable, timeout)
+    failure: tuple | None = None       # (status, why): no verdict (error, unstable, timeout, skipped)
     bad_input: tuple | None = None     # (message, details): the user's code broke the protocol
     details: str = ""                  # with a failure: the user's own traceback, where their code raised
 
@@ -26,12 +26,15 @@ def run_one(scene, out: str, simulator=None):
     try:
         from mujoco_models import to_mjcf
 
-        from ..report import write_scenario
+        from ..report import write_scenario, write_skipped
         from ..checks.scenario import run_scenario
 
         from ..store import counts
 
         result = run_scenario(scene, simulator)
+        if result.skipped:   # its page says why; it fails nothing
+            write_skipped(result, Path(out))
+            return Outcome(failure=("skipped", result.skipped))
         if result.error:
             return Outcome(failure=(result.status, result.error), details=result.error_details)
         row = write_scenario(result, Path(out), to_mjcf(scene))

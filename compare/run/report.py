@@ -19,8 +19,8 @@ class Written:
     """What the report holds, in the order of the scenes."""
 
     rows: list[dict]       # metrics.json of each scenario that reached a verdict
-    failed: list[tuple]    # (name, status, why) of each that did not
-    details: list[str]     # the user's own tracebacks, where their code raised
+    failed: list[tuple]    # (name, status, why) of each that did not ("skipped": the user's code does not do it)
+    details: list[str]     # the user's own tracebacks, where their code raised, each after its scene's name
     index: Path            # DIR/index.md
 
 
@@ -35,6 +35,6 @@ def write_report(scenes, simulator, out: Path, jobs: int, timeout: float | None)
             raise UserCodeError(*bad[0])
         rows = [outcomes[s.name].row for s in scenes if outcomes[s.name].row is not None]
         failed = [(s.name, *outcomes[s.name].failure) for s in scenes if outcomes[s.name].failure]
-        details = [outcomes[s.name].details for s in scenes if outcomes[s.name].details]
+        details = [f"{s.name}: {outcomes[s.name].details}" for s in scenes if outcomes[s.name].details]
         index = write_index(work, rows, failed)
     return Written(rows, failed, details, out / index.name)

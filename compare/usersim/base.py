@@ -10,7 +10,7 @@ from custom_sim import INTEGRATORS, Scene
 from custom_sim.model import initial_state
 
 from ..oracle.one_step import Rounding
-from .errors import UserCodeError
+from .errors import SceneSkipped, UserCodeError
 
 STATE = "[x, y, theta, vx, vy, omega]"
 # The CSV's t = 0 row must be the scene's initial state to this relative precision (or
@@ -98,7 +98,17 @@ class _Simulator:
         """The integrator of the scene last run (declared, or that scene's)."""
         return None if self._scene is None else self.integrator_for(self._scene)
 
+    def skip_reason(self, scene: Scene) -> str | None:
+        """Why this simulator says it does not do `scene` before running it (a module's SHAPES),
+        or None."""
+        return None
+
     def run(self, scene: Scene) -> UserRun:
+        """The scene's run; SceneSkipped (before any call of the user's code) for a scene the
+        simulator says it does not do."""
+        reason = self.skip_reason(scene)
+        if reason:
+            raise SceneSkipped(reason)
         self._scene = scene
         return self._run(scene)
 

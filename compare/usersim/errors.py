@@ -36,6 +36,23 @@ class UserFault(Exception):
         self.details = details
 
 
+class SceneSkipped(Exception):
+    """A scene the user's code says it does not do: its module's SHAPES leaves the body's shape
+    out, its step or whole run raised NotImplementedError, or a process answered `skip REASON`.
+    The scene is listed as skipped with `reason`, never judged, and fails nothing."""
+
+    def __init__(self, reason: str):
+        super().__init__(reason)
+        self.reason = reason
+
+
+def not_implemented(exc: NotImplementedError, step: int | None = None) -> SceneSkipped:
+    """The skip a NotImplementedError says: its message (or that it was raised), and the step
+    where it came when that was not the first (the scene was then partly run)."""
+    reason = str(exc).strip().splitlines()[0] if str(exc).strip() else "the code raised NotImplementedError"
+    return SceneSkipped(reason if step is None or step <= 1 else f"{reason} (raised at step {step})")
+
+
 class UserDiverged(UserFault):
     """The user's run left the healthy range (custom_sim's blow-up test): the scene is unstable."""
 

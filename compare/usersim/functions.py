@@ -5,7 +5,9 @@
 
 MODULE is a dotted module name (importable from the current folder) or a path to a .py file.
 A module-level INTEGRATOR (a string) names the integrator it implements (default: the scene's;
-"other:NAME" for one the harness does not know).
+"other:NAME" for one the harness does not know). A module-level SHAPES (a tuple of point, box,
+compound, circle) names the bodies it does: a scene of another shape is skipped without calling
+it; a step (or whole run) that raises NotImplementedError("reason") skips its scene too.
 
 The protocol, as the harness keeps it:
 1. every run starts from a fresh copy of the module (its top level executed again), so no
@@ -15,7 +17,9 @@ The protocol, as the harness keeps it:
 3. it must return 6 real numbers (a sequence or a (6,) array); anything else is bad input
    naming the step and what came back;
 4. an exception, a NaN or a state that blows up is that scene's fault: its row says the step
-   and the state, and the other scenes are judged.
+   and the state, and the other scenes are judged;
+5. NotImplementedError is the code saying it does not do the scene: the scene is skipped
+   (SceneSkipped) with the exception's message as the reason, never judged.
 """
 from __future__ import annotations
 
@@ -32,10 +36,11 @@ import numpy as np
 
 from custom_sim import Scene
 from custom_sim.model import initial_state
+from scene_types.schema import SHAPES as SHAPE_NAMES
 
 from ..executor import steps as progress
 from .base import STATE, UserRun, _check_initial, _first_bad_row, _Simulator, _state_text, declared_integrator
-from .errors import UserCodeError, UserFault, raised
+from .errors import UserCodeError, UserFault, not_implemented, raised
 from .guard import user_code
 from .scene_dict import scene_dict
 
@@ -192,6 +197,29 @@ class _Function(_Simulator):
     def fresh(self) -> None:
         """Import the module again: a new module state, as at the start of a run."""
         self.function, self.module = load_function(self.spec, self.signature)
+        self.shapes = declared_shapes(getattr(self.module, "SHAPES", None), f"{self.spec}: SHAPES")
+
+    def skip_reason(self, scene: Scene) -> str | None:
+        if self.shapes is None or scene.body.shape in self.shapes:
+            return None
+        return f"a {scene.body.shape} body, not in the module's SHAPES = {self.shapes!r}"
+
+
+def declared_shapes(value, where: str) -> tuple[str, ...] | None:
+    """The shapes a module says it does (`where` names the field): None when it does not say;
+    a tuple or list of names of point, box, compound, circle. Anything else is bad input."""
+    if value is None:
+        return None
+    expected = f"expected a tuple of shape names, some of {', '.join(SHAPE_NAMES)}, e.g. (\"box\",)"
+    if isinstance(value, str):
+        raise UserCodeError(f"{where} = {value!r}: a string, not a tuple ({expected}; a one-item tuple "
+                            "needs its comma)")
+    if not isinstance(value, (tuple, list, set, frozenset)) or not value:
+        raise UserCodeError(f"{where} = {value!r}: {expected}")
+    bad = [v for v in value if v not in SHAPE_NAMES]
+    if bad:
+        raise UserCodeError(f"{where} = {value!r}: {bad[0]!r} is not a shape the harness knows ({expected})")
+    return tuple(v for v in SHAPE_NAMES if v in value)
 
 
 class StepFunction(_Function):
@@ -209,7 +237,7 @@ class StepFunction(_Function):
         try:
             with user_code(where):
                 out = self.function(np.array(state, dtype=float), scene_d, dt)
-        except UserCodeError:
+        except (UserCodeError, UserFault):   # a process's fault is one line already (process.py)
             raise
         except Exception as exc:  # noqa: BLE001
             raise UserFault(raised(where, exc, f"a state {STATE}")) from None
@@ -240,8 +268,10 @@ class StepFunction(_Function):
                     per_step = (time.perf_counter() - t0) / (end - first + 1)
                     chunk = int(min(4 * chunk, max(1.0, REPORT_EVERY / max(per_step, 1e-9))))
                     i = end + 1
-        except UserCodeError:
+        except (UserCodeError, UserFault):   # a process's fault is one line already (process.py)
             raise
+        except NotImplementedError as exc:   # the code does not do this scene: skipped
+            raise not_implemented(exc, i) from None
         except Exception as exc:  # noqa: BLE001 - the scene's fault: its row names the step
             bad = _first_bad_row(out[:i])
             if bad >= 0:  # it failed on a non-finite state it returned before: name that one
@@ -300,6 +330,8 @@ class WholeFunction(_Function):
                 value = self.function(scene_dict(scene))
         except UserCodeError:
             raise
+        except NotImplementedError as exc:   # the code does not do this scene: skipped
+            raise not_implemented(exc) from None
         except Exception as exc:  # noqa: BLE001
             raise UserFault(raised(where, exc, f"an array ({n + 1}, 6)")) from None
         wall = time.perf_counter() - start

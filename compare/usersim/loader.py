@@ -3,12 +3,14 @@
     --sim MODULE:FUNCTION           step(state, scene, dt) -> state          StepFunction
     --sim MODULE:FUNCTION --whole   simulate(scene) -> array (steps + 1, 6)   WholeFunction
     --trajectories DIR              DIR/<scene name>.csv                      TrajectoryFiles
+    --sim-process "COMMAND"         a step function in any language           Process (process.py)
 
 state = [x, y, theta, vx, vy, omega] (m, m, rad, m/s, m/s, rad/s) of the centre of mass; scene
 = scene_dict(scene), the resolved scene as plain dicts and floats. MODULE is a dotted module
 name (importable from the current folder) or a path to a .py file. A simulator may name the
 integrator it implements in a module-level INTEGRATOR (a string; default: the scene's), and a
---whole function may return a 7th column, the energy (J). A folder of trajectories may hold a
+--whole function may return a 7th column, the energy (J). A module's SHAPES (e.g. ("box",)), or
+NotImplementedError from its function, skips a scene: SceneSkipped, never judged. A folder of trajectories may hold a
 simulator.toml with `integrator = "..."`.
 
 A fault of the protocol (a module that does not import, a wrong return, a misspelled
@@ -46,9 +48,17 @@ def for_run(args, scenes):
     return simulator
 
 
-def load_simulator(spec: str | None = None, whole: bool = False, trajectories: str | None = None):
+def load_simulator(spec: str | None = None, whole: bool = False, trajectories: str | None = None,
+                   process: str | None = None):
     """The simulator under test: --sim spec (a step function, or with whole=True a simulate
-    function), or trajectories=DIR (a folder of CSVs). None when neither is given (custom_sim)."""
+    function), trajectories=DIR (a folder of CSVs), or process=COMMAND (--sim-process, a step
+    function in any language). None when none is given (custom_sim)."""
+    if process is not None:
+        if spec is not None or trajectories is not None or whole:
+            raise UserCodeError("--sim-process: expected one simulator under test (not with --sim, "
+                                "--trajectories or --whole)")
+        from .process import Process
+        return Process(process)
     if trajectories is not None:
         if spec is not None:
             raise UserCodeError("--sim and --trajectories: expected one simulator under test, got both")
@@ -61,6 +71,6 @@ def load_simulator(spec: str | None = None, whole: bool = False, trajectories: s
 
 
 def from_args(args):
-    """load_simulator from run's parsed flags (--sim, --whole, --trajectories)."""
+    """load_simulator from run's parsed flags (--sim, --whole, --trajectories, --sim-process)."""
     return load_simulator(getattr(args, "sim", None), getattr(args, "whole", False),
-                          getattr(args, "trajectories", None))
+                          getattr(args, "trajectories", None), getattr(args, "sim_process", None))

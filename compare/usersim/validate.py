@@ -3,7 +3,7 @@ the command `python -m compare validate` (compare/commands/validate.py).
 
 Per scene: `identical` (against custom_sim, same integrator and dt, to round-off), `step` (every
 step against one independent step) and the diagnosis. Exit status 0 when every judged check
-passes and at least one was judged, 1 otherwise.
+passes and at least one was judged, 1 otherwise (every scene skipped is nothing judged).
 """
 from __future__ import annotations
 
@@ -24,27 +24,36 @@ def _cell(row) -> str:
 
 
 def validate(spec: str | None, scenes: list[str], whole: bool = False, trajectories: str | None = None,
-             markdown: bool = False) -> int:
-    """Hold spec (MODULE:FUNCTION, or None with trajectories) to the checks on the scenes: one line
-    per scene (with markdown, its diagnosis in full); the exit status."""
+             markdown: bool = False, law: str | None = None, process: str | None = None) -> int:
+    """Hold spec (MODULE:FUNCTION, or None with trajectories or process) to the checks on the
+    scenes, under `law` (a law file, `identified`, or None: each scene's own): one line per scene
+    (with markdown, its diagnosis in full); a scene the simulator skips is a line saying why, and
+    fails nothing. The exit status."""
     from ..scenarios import load_all
     from ..checks.identical_check import check_identical
     from ..checks.step_check import check_step
     from . import load_simulator, render_markdown, run_user
     from .purity import keeps_state
 
-    from . import UserFault, preflight
+    from . import SceneSkipped, UserFault, preflight
 
-    sim = load_simulator(spec, whole, trajectories)
+    sim = load_simulator(spec, whole, trajectories, process)
     if sim is None:
-        raise SystemExit("expected MODULE:FUNCTION or --trajectories DIR")
+        raise SystemExit("expected MODULE:FUNCTION, --trajectories DIR or --sim-process COMMAND")
     scenes = load_all(scenes)
     preflight(sim, scenes)
-    ok, judged = True, 0
+    if law:
+        from ..run.law import under_law
+        scenes = under_law(scenes, law, sim)
+    ok, judged, skipped = True, 0, 0
     print(f"{'scene':<16} {'identical':<36} {'step':<36} diagnosis")
     for scene in scenes:
         try:
             traj = run_user(sim, scene)
+        except SceneSkipped as exc:   # a scene the code does not do: never judged, fails nothing
+            print(f"{scene.name:<16} skipped  {exc.reason}")
+            skipped += 1
+            continue
         except UserFault as exc:   # this scene's fault: its line, the others still judged
             ok = False
             print(f"{scene.name:<16} error: {exc}")
@@ -63,6 +72,8 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
         print(f"{scene.name:<16} {_cell(same):<36} {_cell(step):<36} {diag['verdict']}")
         if markdown:
             print("\n" + render_markdown(diag) + "\n")
-    if not judged:
+    if skipped == len(scenes):
+        print("nothing judged: your simulator skipped every scene (see each line)")
+    elif not judged:
         print("nothing judged: no scene had a check this command can judge (see each line)")
     return 0 if ok and judged else 1
