@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import UserCodeError
-from .functions import StepFunction, WholeFunction, _module_path, load_function
+from .functions import StepFunction, WholeFunction, _module_path, declared_shapes, load_function
 
 HARNESS = ("compare", "custom_sim", "mujoco_models", "scene_types")   # on every worker already
 PREFIX = "contact-harness-sim-"   # the shipped folders under the worker's temp folder
@@ -109,6 +109,7 @@ class _Shipped:
 
     def fresh(self) -> None:
         self.function, self.module = load_function(self.local, self.signature)
+        self.shapes = declared_shapes(getattr(self.module, "SHAPES", None), f"{self.spec}: SHAPES")
 
     def __reduce__(self):
         return (type(self), (self.spec, self.local))

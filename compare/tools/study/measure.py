@@ -8,8 +8,9 @@
 `stable` is custom_sim not stopping the run and the sweep's energy criterion
 (stability_search.energy_verdict). The user's runs (simulator "yours", their code from
 `bundle`, compare.usersim.bundle) are judged the same way: a blow-up (out of custom_sim's healthy
-range, or a non-finite state) is unstable, an exception of their code failed, a
-NotImplementedError skipped; each run imports their module afresh, as `run` does.
+range, or a non-finite state) is unstable, an exception of their code failed, a scene their
+code does not do (SHAPES, NotImplementedError) skipped; each run imports their module afresh,
+as `run` does.
 Every column: docs/studies.md#what-each-run-measures.
 """
 from __future__ import annotations
@@ -119,7 +120,7 @@ def _your_simulator(bundle):
 def _your_row(simulator, run, rows: np.ndarray, ref, ref_note: str, twin_result, twin: bool) -> dict:
     """The row of one run of the user's code (a fresh import, the whole run in order);
     simulator: from _your_simulator (a string: why there is none)."""
-    from ...usersim import UserCodeError, UserFault, run_user
+    from ...usersim import SceneSkipped, UserCodeError, UserFault, run_user
     from ...usersim.errors import UserDiverged
 
     status = None
@@ -127,12 +128,12 @@ def _your_row(simulator, run, rows: np.ndarray, ref, ref_note: str, twin_result,
         if isinstance(simulator, str):
             raise UserCodeError(simulator)
         trajectory = run_user(simulator, run.scene)
+    except SceneSkipped as exc:   # SHAPES leaves the body out, or the code raised NotImplementedError
+        status, note = "skipped", f"not done by your code: {exc.reason}"
     except UserDiverged as exc:
         status, note = "unstable", str(exc)
     except UserFault as exc:
-        if isinstance(exc.__context__, NotImplementedError):
-            status, note = "skipped", f"not done by your code: {exc.__context__}"
-        elif NON_FINITE in str(exc):
+        if NON_FINITE in str(exc):
             status, note = "unstable", str(exc)
         else:
             status, note = "failed", str(exc)

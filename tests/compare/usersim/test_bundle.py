@@ -122,3 +122,14 @@ def test_a_whole_run_travels_too(tmp_path, clean_modules):
     simulator = bundle.simulator()
     assert simulator.kind == "whole"
     assert np.array_equal(simulator.run(scene).states, want)
+
+
+def test_the_shapes_a_shipped_module_declares_skip_the_other_scenes(tmp_path, clean_modules):
+    """SHAPES travels with the code: a box scene is skipped, with the reason, before any call."""
+    from compare.usersim import SceneSkipped
+
+    path = _write(tmp_path / "user")
+    path.write_text("SHAPES = ('circle',)\n" + MAIN)
+    simulator = Bundle.of(f"{path}:step").simulator()
+    with pytest.raises(SceneSkipped, match="a box body, not in the module's SHAPES"):
+        simulator.run(dataclasses.replace(load("box_drop"), duration=SHORT))
