@@ -82,11 +82,11 @@ def study(files, tmp_path_factory):
     import io
 
     out = tmp_path_factory.mktemp("study")
-    err = io.StringIO()
-    with contextlib.redirect_stderr(err):
+    err, printed = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(printed):
         code = main(["study", str(files / "free_fall.toml"), "--vary", f"body.mass={','.join(map(str, MASSES))}",
-                     "--sim", f"{files / 'stateful_sim.py'}:step", "--workers", "1", "--out", str(out)])
-    return code, table.read_csv(out / "study.csv"), err.getvalue(), out
+                     "--sim", f"{files / 'stateful_sim.py'}:step", "--workers", "1", "--dashboard", "--out", str(out)])
+    return code, table.read_csv(out / "study.csv"), err.getvalue() + printed.getvalue(), out
 
 
 def test_a_step_that_keeps_state_is_judged_from_a_fresh_import_at_every_run(study):
@@ -140,6 +140,7 @@ def test_what_the_users_code_does_not_do_is_said_per_run(study):
     assert {r["status"] for r in by["implicit_euler"]} == {"unstable"}
     assert all("non-finite" in r["note"] and r["stable"] == "false" for r in by["implicit_euler"])
     assert "Traceback" not in err
+    assert "dashboard: http://127.0.0.1:" in err, "--dashboard prints where it opened the dashboard"
     assert "yours: 3 run(s) failed, the first: " in err and "ValueError: boom" in err
     index = (out / "index.md").read_text()
     assert "stateful_sim.py:step" in index and "fall.py, stateful_sim.py" in index
