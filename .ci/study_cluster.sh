@@ -4,7 +4,7 @@
 # then a study of a user's simulator (a module and the sibling it imports, in a folder the workers
 # cannot see) run from that folder; the processes are always stopped. The same over TLS:
 # tests/compare/executor/test_dask_cluster.py (pytest -m slow).
-#   usage: .ci/study_cluster.sh            (from anywhere; about 60 s on 2 cores)
+#   usage: .ci/study_cluster.sh            (from anywhere; 100 s on 2 cores shared with other jobs)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
