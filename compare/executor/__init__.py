@@ -40,12 +40,13 @@ def require_dask(what: str) -> None:
 
 
 def make_executor(kind: str = "auto", scheduler: str | None = None, workers: int | None = None,
-                  threads_per_task: int | None = None) -> Executor:
+                  threads_per_task: int | None = None, dashboard: str | None = None) -> Executor:
     """The executor of `kind` with `workers` processes (default: every core):
 
       processes  a fresh process forked for each task (isolated; a task can be timed out)
       pool       spawned local processes kept for the executor's life
-      dask       the Dask cluster at `scheduler`, else a local one (needs Dask)
+      dask       the Dask cluster at `scheduler`, else a local one on 127.0.0.1 (needs Dask;
+                 dashboard: HOST:PORT to open the local one's dashboard at)
       auto       dask when Dask is installed, else pool; `scheduler` without Dask is bad input
     """
     if kind not in KINDS:
@@ -63,4 +64,4 @@ def make_executor(kind: str = "auto", scheduler: str | None = None, workers: int
         return Pool(workers, threads_per_task)
     require_dask(f"--scheduler {scheduler}" if scheduler else "the dask executor")
     from .dask import DaskCluster
-    return DaskCluster(scheduler, workers, threads_per_task)
+    return DaskCluster(scheduler, workers, threads_per_task, dashboard)

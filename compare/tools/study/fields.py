@@ -172,12 +172,14 @@ def set_field(data: dict, vary: Vary, value, scene: Scene) -> dict:
 
 @dataclass(frozen=True)
 class SceneSource:
-    """A scene file read once: its table, its file name and the loaded (default-filled) scene."""
+    """A scene file read once: its table, its file name and the loaded (default-filled) scene;
+    law_from: the law file laid over its [contact] (under_law), "" for the scene's own law."""
 
     data: dict
     file: str
     stem: str
     scene: Scene
+    law_from: str = ""
 
     @classmethod
     def read(cls, path: Path) -> SceneSource:
@@ -185,6 +187,18 @@ class SceneSource:
 
         scene = load_scene(path)   # raises SceneError for an unreadable or invalid file
         return cls(tomllib.loads(path.read_text(encoding="utf-8")), str(path), path.stem, scene)
+
+    def under_law(self, law: str) -> SceneSource:
+        """The scene under a law file (`--law FILE.toml`): its [contact] table laid over the
+        file's, as `run --law` does; the fields a study varies are then set over that law."""
+        from scene_types.law_file import load_law, with_law
+
+        table = load_law(law)   # a SceneError naming the file and the field
+        scene = with_law(self.scene, table, law)
+        contact = {f.name: getattr(scene.contact, f.name) for f in dataclasses.fields(scene.contact)}
+        contact = {k: list(v) if isinstance(v, tuple) else v for k, v in contact.items() if v is not None}
+        data = {**self.data, "contact": without_untaken(contact)}
+        return dataclasses.replace(self, data=data, scene=scene, law_from=law)
 
     def varied(self, varies: list[Vary], values: tuple) -> Scene:
         """The scene with each varied field set to its value, through the loader."""
@@ -196,7 +210,10 @@ class SceneSource:
             kept = {v.path[-1] for v in varies if v.path[:1] == ("contact",)}
             data = {**data, "contact": without_untaken(data["contact"], kept)}
         try:
-            return parse_scene(data, file=self.file, default_name=self.stem)
+            scene = parse_scene(data, file=self.file, default_name=self.stem)
+            if self.law_from:
+                scene = dataclasses.replace(scene, law_from=self.law_from, scene_contact=self.scene.scene_contact)
+            return scene
         except SceneError as exc:
             given = ", ".join(f"{v.name}={x:g}" if isinstance(x, float) else f"{v.name}={x}"
                               for v, x in zip(varies, values))

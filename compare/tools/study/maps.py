@@ -1,5 +1,6 @@
-"""Heatmaps of a study: one panel per integrator over the first two varied fields, the theory's
-stability limit (custom_sim.stability.stable_step) drawn over each.
+"""Heatmaps of a study: one panel per integrator (of custom_sim, then of yours with --sim) over
+the first two varied fields, the theory's stability limit (custom_sim.stability.stable_step)
+drawn over each.
 
 Axes: with dt among the varied fields, dt is the vertical axis and the limit is the curve
 h_max(x) = stable_step(scene at x) computed on a fine sample of x (every sample a scene built
@@ -16,7 +17,18 @@ import numpy as np
 
 MAX_ROWS = 6
 THEORY_SAMPLES = 80
-STATUS_COLORS = {"ok": "#4a9e5c", "unstable": "#d0453c", "failed": "#9a9a9a"}
+STATUS_COLORS = {"ok": "#4a9e5c", "unstable": "#d0453c", "failed": "#9a9a9a", "skipped": "#d9d9d9"}
+
+
+def _in_panel(row, panel: tuple[str, str]) -> bool:
+    """Whether a row belongs to the panel (simulator, integrator)."""
+    return (row.get("simulator") or "custom_sim", row["integrator"]) == panel
+
+
+def panel_title(panel: tuple[str, str]) -> str:
+    simulator, integrator = panel
+    name = integrator.replace("_", " ")
+    return name if simulator == "custom_sim" else f"yours: {name}"
 
 
 def _is_log(values) -> bool:
@@ -74,12 +86,12 @@ def layout(study):
     return Axis(x), (Axis(y) if y else None), varies, combos
 
 
-def _grid(study, xa, ya, extra, combo, integrator, value_of):
-    """(ny, nx) array of value_of(row) (NaN where absent) for one panel."""
+def _grid(study, xa, ya, extra, combo, panel, value_of):
+    """(ny, nx) array of value_of(row) (NaN where absent) for one panel (simulator, integrator)."""
     names = study.names
     grid = np.full((len(ya.values) if ya else 1, len(xa.values)), np.nan)
     for row in study.rows:
-        if row["integrator"] != integrator:
+        if not _in_panel(row, panel):
             continue
         vals = dict(zip(names, row["values"]))
         if any(vals[v.name] != c for v, c in zip(extra, combo)):
@@ -90,11 +102,14 @@ def _grid(study, xa, ya, extra, combo, integrator, value_of):
     return grid
 
 
-def _theory(study, ax, xa, ya, extra, combo, integrator, grid_rows):
+def _theory(study, ax, xa, ya, extra, combo, panel, grid_rows):
     """Draw the theory's stability limit on one panel; returns whether anything was drawn."""
-    from custom_sim import stable_step
+    from custom_sim import INTEGRATORS, stable_step
 
     names = study.names
+    integrator = panel[1]
+    if integrator not in INTEGRATORS:   # yours, an integrator the harness does not know: no theory
+        return False
     if ya is not None and ya.vary.name == "dt" and xa.numeric:
         lo, hi = xa.values[0], xa.values[-1]
         xs = np.geomspace(lo, hi, THEORY_SAMPLES) if xa.log else np.linspace(lo, hi, THEORY_SAMPLES)
@@ -116,7 +131,7 @@ def _theory(study, ax, xa, ya, extra, combo, integrator, grid_rows):
         ax.axvline(h[0], color="black", linewidth=1.6, label="theory: stable_step")
         return True
     # the contour dt / stable_step = 1 over the grid
-    ratio = _grid(study, xa, ya, extra, combo, integrator,
+    ratio = _grid(study, xa, ya, extra, combo, panel,
                   lambda r: (r["_dt"] / r["stable_step_theory"]) if r["stable_step_theory"] else 0.0)
     if not np.any(ratio > 0) or ratio.shape[0] < 2 or ratio.shape[1] < 2:
         return False
@@ -129,7 +144,7 @@ def _theory(study, ax, xa, ya, extra, combo, integrator, grid_rows):
 
 
 METRICS = {
-    "stability": ("stable (green), unstable (red), failed (grey)", None),
+    "stability": ("stable (green), unstable (red), failed (grey), skipped (light grey)", None),
     "error": ("max position error against the reference (m); x: unstable run", "position_error_max"),
     "twin": ("max position difference to the MuJoCo twin (m); x: unstable run", "twin_position_error_max"),
     "cost": ("wall time of the run (s); x: unstable run", "wall_time"),
@@ -147,13 +162,14 @@ def plot(study, metric: str, path) -> None:
     xa, ya, extra, combos = layout(study)
     for row in study.rows:
         row["_dt"] = dict(zip(study.names, row["values"])).get("dt", study.source.scene.dt)
-    ncol, nrow = len(study.integrators), len(combos)
+    panels = study.panels
+    ncol, nrow = len(panels), len(combos)
     fig, axes = plt.subplots(nrow, ncol, figsize=(max(7.0, 3.6 * ncol + 1.2), (3.0 if ya else 1.6) * nrow + 1.0),
                              squeeze=False, sharex=True, sharey=True)
-    codes = {"ok": 0, "unstable": 1, "failed": 2}
+    codes = {"ok": 0, "unstable": 1, "failed": 2, "skipped": 3}
     if column is None:
         cmap = ListedColormap([STATUS_COLORS[s] for s in codes])
-        norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3)
+        norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4)
         value_of = lambda r: codes[r["status"]]  # noqa: E731
     else:
         finite = [r[column] for r in study.rows if r.get(column) is not None and r[column] > 0]
@@ -163,7 +179,7 @@ def plot(study, metric: str, path) -> None:
         value_of = lambda r: r[column] if r.get(column) is not None and r[column] > 0 else np.nan  # noqa: E731
     mesh = None
     for i, combo in enumerate(combos):
-        for j, integ in enumerate(study.integrators):
+        for j, integ in enumerate(panels):
             ax = axes[i, j]
             grid = _grid(study, xa, ya, extra, combo, integ, value_of)
             yedges = ya.edges if ya else np.array([0.0, 1.0])
@@ -177,14 +193,14 @@ def plot(study, metric: str, path) -> None:
                                [ya.position(ya.values[k]) for k in yi] if ya else [0.5] * yi.size,
                                marker="x", s=18, color="#d0453c", linewidths=1.0,
                                label="unstable (or failed)")
-            rows = [r for r in study.rows if r["integrator"] == integ]
+            rows = [r for r in study.rows if _in_panel(r, integ)]
             drawn = _theory(study, ax, xa, ya, extra, combo, integ, rows)
             xa.apply(ax.set_xlim, ax.set_xscale, ax.set_xticks)
             if ya:
                 ya.apply(ax.set_ylim, ax.set_yscale, ax.set_yticks)
             else:
                 ax.set_yticks([])
-            head = integ.replace("_", " ")
+            head = panel_title(integ)
             if extra:
                 head += "\n" + ", ".join(f"{v.name}={c:g}" if isinstance(c, float) else f"{v.name}={c}"
                                          for v, c in zip(extra, combo))
@@ -219,7 +235,7 @@ def measured_limits(study) -> list[dict]:
     table: dict = {}
     for row in study.rows:
         vals = dict(zip(names, row["values"]))
-        key = (row["integrator"], tuple(vals[n] for n in others))
+        key = ((row.get("simulator") or "custom_sim", row["integrator"]), tuple(vals[n] for n in others))
         table.setdefault(key, []).append((vals["dt"], row["status"], row["stable_step_theory"]))
     out = []
     for (integ, combo), entries in table.items():
@@ -231,9 +247,10 @@ def measured_limits(study) -> list[dict]:
             largest = dt
         theory = entries[0][2]
         first_bad = next((dt for dt, s, _ in entries if s == "unstable"), None)
-        out.append({"integrator": integ, "values": dict(zip(others, combo)), "stable_up_to": largest,
+        out.append({"integrator": integ[1], "simulator": integ[0], "values": dict(zip(others, combo)),
+                    "stable_up_to": largest,
                     "first_unstable": first_bad, "theory": theory,
                     "ratio": (largest / theory) if (largest and theory) else math.nan})
-    order = {name: i for i, name in enumerate(study.integrators)}
-    out.sort(key=lambda lim: (order[lim["integrator"]], tuple(lim["values"].values())))
+    order = {panel: i for i, panel in enumerate(study.panels)}
+    out.sort(key=lambda lim: (order[(lim["simulator"], lim["integrator"])], tuple(lim["values"].values())))
     return out

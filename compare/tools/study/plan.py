@@ -1,12 +1,14 @@
 """A study's runs: the cartesian product of the varied values, for every integrator, in batches.
 
     point   one combination of the varied values: one scene, one MuJoCo twin, one reference
-    run     a point with one integrator: one row of study.csv
+    run     a point with one integrator of one simulator (custom_sim, or with --sim yours):
+            one row of study.csv
     batch   points whose runs one task simulates in one compiled call (custom_sim.batch) and
             whose twins it rolls out together (mujoco_models.batch)
 
 Every run has a key, a hash of everything its result depends on (the varied scene, the
-integrator, the sampling and STUDY_VERSION), so a study started again finds what it already has.
+integrator, the sampling, STUDY_VERSION and, for yours, the text of the code shipped), so a
+study started again finds what it already has.
 """
 from __future__ import annotations
 
@@ -35,14 +37,28 @@ BATCH_SECONDS = 0.25
 CUSTOM_EVAL_COST = 80e-9
 IMPLICIT_EVALS_PER_STEP = 12
 MUJOCO_STAGE_COST = 2e-6
+YOUR_STEP_COST = 30e-6   # a step written in Python and numpy, as the examples are
 
 
 @dataclass(frozen=True)
 class Run:
+    """simulator: "custom_sim", or "yours" (the user's --sim, run from its shipped copy)."""
+
     values: tuple
     integrator: str
     scene: Scene
     key: str
+    simulator: str = "custom_sim"
+
+
+@dataclass(frozen=True)
+class Yours:
+    """The user's simulator in a study: its shipped code (compare.usersim.bundle.Bundle) and the
+    integrators it runs: the one it declares (INTEGRATOR), else each of the study's, told to it
+    by the scene dict's `integrator`."""
+
+    bundle: object
+    integrators: tuple[str, ...]
 
 
 @dataclass(frozen=True)
@@ -86,8 +102,14 @@ def physics_scene(scene: Scene) -> Scene:
                                source="")
 
 
-def plan(source: SceneSource, varies: list[Vary], integrators: list[str]) -> list[Point]:
-    """Every point of the product, in the order of the command line (last field fastest)."""
+def _yours_scene(scene: Scene, integrator: str) -> Scene:
+    """The scene the user's code is given: the integrator it runs, where the harness knows it."""
+    return dataclasses.replace(scene, integrator=integrator) if integrator in INTEGRATORS else scene
+
+
+def plan(source: SceneSource, varies: list[Vary], integrators: list[str], yours: Yours | None = None) -> list[Point]:
+    """Every point of the product, in the order of the command line (last field fastest); with
+    `yours`, each point's runs of the user's code after custom_sim's."""
     points = []
     for values in itertools.product(*(v.values for v in varies)):
         scene = source.varied(varies, values)
@@ -97,6 +119,11 @@ def plan(source: SceneSource, varies: list[Vary], integrators: list[str]) -> lis
             key = _hash((STUDY_VERSION, REFERENCE_VERSION, SAMPLE, name,
                          repr(dataclasses.replace(sc, source=""))))
             runs.append(Run(values, name, sc, key))
+        for name in (yours.integrators if yours else ()):
+            sc = _yours_scene(scene, name)
+            key = _hash((STUDY_VERSION, REFERENCE_VERSION, SAMPLE, "yours", name, yours.bundle.digest,
+                         yours.bundle.whole, yours.bundle.function, repr(dataclasses.replace(sc, source=""))))
+            runs.append(Run(values, name, sc, key, "yours"))
         points.append(Point(values, scene, tuple(runs), _hash(repr(physics_scene(scene)))))
     return points
 
@@ -106,6 +133,9 @@ def estimated_cost(point: Point, twin: bool) -> float:
     steps = point.scene.steps
     cost = 0.0
     for run in point.runs:
+        if run.simulator == "yours":
+            cost += steps * YOUR_STEP_COST
+            continue
         per = INTEGRATORS[run.integrator].evals_per_step or IMPLICIT_EVALS_PER_STEP
         cost += steps * per * CUSTOM_EVAL_COST
     if twin:

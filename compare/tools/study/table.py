@@ -12,9 +12,9 @@ from pathlib import Path
 from ...report.atomic import write_text_atomically
 
 # After the varied fields, in this order. The first eight are the table's fixed contract;
-# the rest are added after them.
+# the rest are added after them (`simulator`: custom_sim, or yours with --sim).
 MEASURED = ("integrator", "stable", "position_error_max", "twin_position_error_max", "wall_time",
-            "force_evals", "status", "stable_step_theory", "note", "run")
+            "force_evals", "status", "stable_step_theory", "note", "run", "simulator")
 
 
 def columns(names: list[str]) -> list[str]:
@@ -36,8 +36,9 @@ def records(names: list[str], rows: list[dict]) -> list[dict]:
     out = []
     for row in rows:
         rec = dict(zip(names, row["values"]))
-        rec.update({c: row.get(c) for c in MEASURED if c != "run"})
+        rec.update({c: row.get(c) for c in MEASURED if c not in ("run", "simulator")})
         rec["run"] = row["key"]
+        rec["simulator"] = row.get("simulator") or "custom_sim"   # rows kept before the column
         out.append(rec)
     return out
 
