@@ -50,6 +50,9 @@ def add_arguments(parser) -> None:
                              "that it imports are sent to the workers")
     parser.add_argument("--whole", action="store_true",
                         help="with --sim: FUNCTION is simulate(scene) -> array (steps + 1, 6)")
+    parser.add_argument("--sim-process", metavar="COMMAND", default=None,
+                        help="your simulator in any language on stdin/stdout (docs/process-protocol.md), in place "
+                             "of --sim; the command is started where each task runs")
     parser.add_argument("--law", metavar="FILE.toml", default=None,
                         help="a law file's [contact] table laid over the scene's, then the fields varied")
     parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
@@ -67,12 +70,22 @@ def add_arguments(parser) -> None:
 def yours_of(args, scene, integrators):
     """plan.Yours for --sim (None without): the module imported and shipped once here, so a
     fault of it is bad input before anything runs."""
+    from ..tools.study.plan import Yours
+    from ..usersim import load_simulator
+
+    if args.sim_process is not None:
+        from ..tools.accuracy.yours import integrators_of
+        from ..usersim.process import Command
+        if args.sim is not None or args.whole:
+            raise BadInput("--sim-process: expected it in place of --sim (and without --whole)")
+        process = load_simulator(process=args.sim_process)
+        chosen = integrators_of(process, scene)
+        process.close()
+        return Yours(Command(args.sim_process), tuple(i for i in chosen if i in integrators) or tuple(chosen))
     if args.sim is None:
         if args.whole:
             raise BadInput("--whole: expected it with --sim MODULE:FUNCTION")
         return None
-    from ..tools.study.plan import Yours
-    from ..usersim import load_simulator
     from ..usersim.bundle import Bundle
 
     simulator = load_simulator(args.sim, args.whole)
@@ -126,6 +139,8 @@ def command_line(args) -> str:
         parts += ["--integrators", *args.integrators]
     if args.sim:
         parts += ["--sim", args.sim] + (["--whole"] if args.whole else [])
+    if args.sim_process:
+        parts += ["--sim-process", args.sim_process]
     if args.law:
         parts += ["--law", args.law]
     if args.no_twin:

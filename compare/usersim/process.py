@@ -22,6 +22,7 @@ ended (its process group killed) whenever it fails and at the end of every run.
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import select
@@ -32,6 +33,7 @@ import subprocess
 import tempfile
 import time
 import weakref
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -404,3 +406,26 @@ def _number(word: bytes) -> bool:
 
 def _short(request: str) -> str:
     return request if not request.startswith("scene ") else "scene {...}"
+
+
+@dataclass(frozen=True)
+class Command:
+    """What a study sends its workers for --sim-process: the command, started where each task
+    runs (the program must be there: a local cluster's workers share this machine). It answers
+    as compare.usersim.bundle.Bundle does: spec, whole, function, files, digest, simulator()."""
+
+    command: str
+    whole: bool = False
+    function: str = ""
+    files: tuple = ()
+
+    @property
+    def spec(self) -> str:
+        return f"--sim-process {self.command!r}"
+
+    @property
+    def digest(self) -> str:
+        return hashlib.sha256(self.command.encode()).hexdigest()[:16]
+
+    def simulator(self) -> Process:
+        return Process(self.command)

@@ -172,3 +172,39 @@ def test_a_law_file_is_laid_over_the_scene_and_the_varied_fields_over_it(files, 
     assert (scene.contact.k, scene.contact.c, scene.contact.friction_law) == (2e4, 7.0, "sign")
     assert scene.law_from == str(law)
     assert source.scene.contact.k == 5e4 and not math.isnan(source.scene.contact.mu)
+
+
+# A program in "another language" (Python here, so that no compiler is needed): the closed form
+# on the step protocol, counting the steps since its last `scene` line; it does semi-implicit
+# Euler's integrator name only.
+PROCESS = '''
+import sys
+sys.path.insert(0, sys.argv[1])
+import json
+from fall import state_at
+sd, n = None, 0
+for line in sys.stdin:
+    word, _, rest = line.partition(" ")
+    if word == "scene":
+        sd, n = json.loads(rest), 0
+        print("ready semi_implicit_euler", flush=True)
+    elif word == "step":
+        n += 1
+        dt = float(rest.split()[0])
+        print(" ".join(repr(v) for v in state_at(sd["state0"], sd["g"], n * dt)), flush=True)
+'''
+
+
+def test_a_process_runs_every_point_through_the_step_protocol(files, tmp_path, capsys):
+    """`study --sim-process`: the command is started for the runs, each from its scene line; the
+    integrator its `ready` names is the one run."""
+    import sys
+
+    (files / "fall_process.py").write_text(PROCESS)
+    command = f"{sys.executable} {files / 'fall_process.py'} {files}"
+    code = main(["study", str(files / "free_fall.toml"), "--vary", "body.mass=1,2", "--sim-process", command,
+                 "--integrators", "semi_implicit_euler", "--no-twin", "--workers", "1", "--out", str(tmp_path)])
+    assert code == 0, capsys.readouterr().err
+    mine = [r for r in table.read_csv(tmp_path / "study.csv") if r["simulator"] == "yours"]
+    assert [r["integrator"] for r in mine] == ["semi_implicit_euler"] * 2
+    assert all(r["status"] == "ok" and float(r["position_error_max"]) < FREE_FALL_AGREEMENT for r in mine), mine
