@@ -68,18 +68,23 @@ class StepIdentification:
         out["gravity"] = gravity_entry(g, g_res, g_rel, g_scene)
         g_use = g if g_rel <= 1.0 else law_s.g
         contact = scene.has("contact")
-        P2 = restart = None
+        P2 = restart = quarter = None
         if contact:
             P2 = pairs(self.geometry_scene, self.scales)
             P2.Z1 = self.calls.many(P2.Z0, P2.H, "contact at dt and dt/2")
             Zr, Hr = restart_states(P2)
             restart = ((Zr, Hr), self.calls.many(Zr, Hr, "implicit Euler restart"))
+            quarter = self.calls.many(P2.Z0[0::2], 0.25 * P2.H[0::2], "contact at dt/4")
         law0 = law_s.with_(g=g_use)
-        tests = integrator_tests(law0, F, P2, restart)
+        tests = integrator_tests(law0, F, P2, restart, quarter)
         name, closest, rel, why = decide(tests)
         if contact and not contact_shown(law0, F, P2):
             name, why = None, "the contact probes show no force (the step never touches the ground here)"
         used = closest if name is None else ("rk4" if name == "rk4?" else name)
+        if name is None and tests.get("reads_at_end") and not tests.get("reads_at_start"):
+            used = "implicit_euler"       # the force at the end of the step, whatever moves the positions
+        elif name is None and (tests.get("reads_at_start") or closest != "rk4"):
+            used = "explicit_euler"       # the force at the start: m (v1 - v0) / h is the force at z0
         if not contact:
             out["integrator"] = integrator_entry(name if name != "rk4?" else "rk4", closest, rel, tests, why, scene)
             for effect in ("normal", "friction", "rolling"):
@@ -100,8 +105,10 @@ class StepIdentification:
         if name == "rk4?":
             name = "rk4" if fits["rk4_relative"] <= 1.0 else None
             rel = max(rel, fits["rk4_relative"])
+            if name:
+                tests["depends_on_dt"] = False   # a law of the state, stepped by RK4, reproduces it
             why = "flight and the contact probes stepped by RK4 under the law found" if name else \
-                "no Euler step; RK4 under the closest laws does not reproduce the contact probes"
+                "none: beta = 1/2 (RK4's), but RK4 under the closest laws does not reproduce the contact probes"
         out["integrator"] = integrator_entry(name, closest if name is None else name, rel, tests, why, scene)
         for effect in ("normal", "friction", "rolling"):
             if not scene.has(EFFECT_OF[effect]):

@@ -78,8 +78,12 @@ def text(result: dict) -> str:
         lines.append(f"  {'integrator':<11} {it['name']} ({it.get('why', '')}){_match(result, 'integrator')}")
     else:
         c = it.get("closest", {})
-        lines.append(f"  {'integrator':<11} none of the four ({it.get('why', '')}; closest {c.get('name')}, "
-                     f"{c.get('residual', float('nan')):.3g} x round-off){_match(result, 'integrator')}")
+        closest = f"closest {c.get('name')}, {c.get('residual', float('nan')):.3g} x round-off"
+        if it.get("why", "").startswith("none:"):   # the measurements: beta, and whether the force depends on dt
+            lines.append(f"  {'integrator':<11} {it['why']}; {closest}{_match(result, 'integrator')}")
+        else:
+            lines.append(f"  {'integrator':<11} none of the four ({it.get('why', '')}; {closest})"
+                         f"{_match(result, 'integrator')}")
     gr = result["gravity"]
     if gr.get("exercised") is False:
         lines.append(f"  {'gravity':<11} not exercised: {gr.get('why', '')}")

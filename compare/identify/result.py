@@ -65,7 +65,12 @@ def integrator_entry(name, closest: str, relative: float, tests: dict, why: str,
     """name (None: none of the four), residual: the largest of its tests over their round-off
     bounds (for RK4, the contact probes stepped by RK4 under the laws found too); `tests`: each
     integrator's law-free residual."""
-    out = {"name": name, "residual": relative, "why": why, "tests": tests}
+    from .integrators import NAMES
+    out = {"name": name, "residual": relative, "why": why, "tests": {k: tests.get(k) for k in NAMES if k in tests}}
+    if "beta" in tests:   # the measurements the name rests on (designed probes; a run: beta only)
+        out["beta"] = tests["beta"]
+        out["beta_uncertainty"] = tests.get("beta_uncertainty")
+        out["depends_on_dt"] = tests.get("depends_on_dt")
     if name is None:
         out["closest"] = {"name": closest, "residual": relative}
     return out

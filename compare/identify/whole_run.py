@@ -16,6 +16,7 @@ from .integrators import POSITION_SHARE, evaluated_at, position_residual
 from .model import Law, contacts
 from .result import body_entry, effect_entry, gravity_entry, integrator_entry, matches, not_exercised
 from .roundoff import inertias, position_bound, rate_bound
+from .stepping import beta_words, position_share
 from ..usersim.scene_dict import scene_dict
 
 # At most this many steps enter a least-squares fit (evenly spread over the steps where the
@@ -80,12 +81,17 @@ class RunIdentification:
                                     position_bound(name, Z0[rows], Z1[rows], H[rows], self.rounding))[1]
         law = law_s.with_(g=g)
         contact = scene.has("contact")
+        beta, unc = position_share(Z0[flight], Z1[flight], H[flight], self.rounding)
+        tests.update(beta=beta, beta_uncertainty=unc, depends_on_dt=None)   # a run has one dt
+        shared = None   # no method's position update: the force held over the step, read at z0
         if tests.get("explicit_euler", np.inf) <= 1.0:
             candidates = ["explicit_euler"]
         elif tests.get("semi_implicit_euler", np.inf) <= 1.0:
             candidates = ["semi_implicit_euler", "implicit_euler"]
-        else:
+        elif beta is None or tests.get("rk4", np.inf) <= 1.0:
             candidates = ["rk4"]
+        else:
+            candidates, shared = ["explicit_euler"], "none: " + beta_words(beta)
         if not contact:
             name = candidates[0] if len(candidates) == 1 else None
             out["integrator"] = integrator_entry(name, candidates[0], tests.get(candidates[0], 0.0), tests,
@@ -112,7 +118,9 @@ class RunIdentification:
         best = min(candidates, key=lambda c: results[c]["score"])
         res = results[best]
         fitting = [c for c in candidates if results[c]["score"] <= 1.0]
-        if best == "explicit_euler":   # the position update alone names it (beta = 0 on every step)
+        if shared:
+            name = None
+        elif best == "explicit_euler":   # the position update alone names it (beta = 0 on every step)
             name = best
         else:                          # the others need a law that reproduces the run, under one only
             name = best if len(fitting) == 1 and best in fitting else None
@@ -124,6 +132,10 @@ class RunIdentification:
         if len(fitting) > 1:
             why = ("semi-implicit and implicit Euler both reproduce every step, each with its own laws: the run "
                    "never tells them apart")
+        elif shared:
+            why = shared + ("; the laws read with the force at the start of each step" if res["score"] <= 1.0 else "")
+            best = min(("explicit_euler", "semi_implicit_euler", "rk4"), key=lambda k: tests.get(k, np.inf))
+            rel = tests.get(best, np.inf)
         elif name is None:
             why = "no integrator with any of the families reproduces the steps"
         out["integrator"] = integrator_entry(name, best, rel, tests, why, scene)

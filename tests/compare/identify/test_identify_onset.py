@@ -1,0 +1,89 @@
+"""identify on code written without the harness in mind: the integrator as measurements (the
+position-update share beta and whether the force depends on dt), contact where the forces show
+it (an onset above the contact points), probes pressed to where the law is of the order of m g,
+and a fit that saw only round-off is no finding."""
+from __future__ import annotations
+
+import importlib.util
+import math
+from pathlib import Path
+
+import numpy as np
+
+from compare.identify import identify_step
+from compare.identify.report import text
+from compare.scenarios import load
+
+OUTSIDERS = Path(__file__).resolve().parents[2] / "outsiders"
+
+
+class Direct:
+    """A plain function as the simulator under test (what StepFunction gives identify)."""
+
+    def __init__(self, fn, spec="test_identify_onset.py:step"):
+        self.function, self.spec = fn, spec
+
+    def fresh(self):
+        pass
+
+
+def outsider(name: str):
+    spec = importlib.util.spec_from_file_location(f"outsider_{name}", OUTSIDERS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def line(out: dict, head: str) -> str:
+    return next(x for x in text(out).splitlines() if x.lstrip().startswith(head))
+
+
+# -- the integrator in measurements -----------------------------------------------------------
+
+def test_substeps_are_measured_as_their_position_share_not_named_a_method():
+    """8 substeps moving positions first, the force held over the frame: beta = (8 - 1) / 16
+    exactly (PHYSICS.md), the force read at the start of the step (no dependence on dt). No
+    method has that beta: none is named, and the line says what beta is."""
+    module = outsider("substep_margin")
+    out = identify_step(Direct(module.step), load("point_drop"))
+    it = out["integrator"]
+    want = (module.SUBSTEPS - 1) / (2 * module.SUBSTEPS)
+    assert it["name"] is None
+    assert abs(it["beta"] - want) <= 1e-6, it["beta"]
+    assert it["depends_on_dt"] is False
+    assert "none: beta = 0.4375 (between explicit and semi-implicit Euler" in line(out, "integrator")
+    assert it["closest"]["name"] == "rk4"   # the nearest beta (1/2), no method matching it
+
+
+def _baumgarte_step(state, scene, dt):
+    """Explicit Euler with a game engine's position correction: the normal force carries a bias
+    that removes a fifth of the depth per step, m 0.2 d / dt^2 (a force that depends on dt)."""
+    x, y, th, vx, vy, om = (float(v) for v in state)
+    mp, ct = scene["mass_properties"], scene["contact"]
+    m = mp["mass"]
+    d = -(y + mp["contact_points"][0][1])
+    fn = 0.0
+    if d > 0.0:
+        fn = max(0.0, ct["k"] * d - ct["c"] * vy) + m * 0.2 * d / (dt * dt)
+    fx = -ct["mu"] * fn * math.tanh(ct["alpha"] * vx)
+    ay = fn / m - scene["g"]
+    return [x + dt * vx, y + dt * vy, th, vx + dt * fx / m, vy + dt * ay, om]
+
+
+def test_a_force_that_depends_on_dt_is_said_so_beside_its_beta():
+    out = identify_step(Direct(_baumgarte_step), load("point_drop"))
+    it = out["integrator"]
+    assert it["name"] is None and abs(it["beta"]) <= 1e-6
+    assert it["depends_on_dt"] is True
+    assert it["closest"]["name"] == "explicit_euler"   # its beta, not the nearest largest test (rk4 in flight only)
+    words = line(out, "integrator")
+    assert "none: beta = 0 (explicit_euler's), and the force depends on the step size" in words, words
+
+
+def test_the_four_methods_are_still_named_with_their_measurements():
+    from compare.usersim import load_simulator
+    sim = load_simulator("examples/seed_sim.py:step")
+    for name, beta in (("box_drop", 1.0), ("spinning_box", 0.5)):
+        it = identify_step(sim, load(name))["integrator"]
+        assert it["name"] == load(name).integrator and it["depends_on_dt"] is False
+        assert abs(it["beta"] - beta) <= 1e-6
