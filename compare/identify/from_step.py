@@ -94,7 +94,7 @@ class StepIdentification:
 
         search = OnsetSearch(self.calls, self.geometry_scene, self.scales, g_use, used)
         found, missing, turn = search.points()
-        geometry = self._geometry(found, turn)
+        geometry = self._geometry(found, turn).with_onset(search.onset or 0.0)
         law = law0.with_(geometry=geometry)
         P = contact_states(geometry, self.scales, scene.has("friction"), scene.has("rolling_friction"))
         P.Z1 = self.calls.many(P.Z0, P.H, "contact")
@@ -117,11 +117,15 @@ class StepIdentification:
                 out[effect] = effect_entry(effect, *fits[effect], fits["scene_" + effect])
         out["body"] = body_entry(law_s, fits["body"], found, missing, scene, turn=turn,
                                  rotates=self.geometry_scene.rotates)
+        if search.onset is not None:   # the force begins above (or below) the contact points
+            out["normal"]["onset"] = search.onset
         return self._finish(out, start)
 
     def _finish(self, out: dict, start: float) -> dict:
         from .result import matches
         out["matches_scene"] = matches(out, self.scene)
+        if out.get("normal", {}).get("onset") is not None:   # the scene's force begins at its points
+            out["matches_scene"]["normal"] = False
         out["calls"] = self.calls.count
         out["seconds"] = time.perf_counter() - start
         return out
@@ -151,7 +155,7 @@ class StepIdentification:
         rx, ry = law.geometry.arms(Ze[:, 2])
         idx = np.arange(len(P))
         rx, ry = rx[idx, P.point], ry[idx, P.point]
-        d = -(Ze[:, 1] + ry)
+        d = law.geometry.onset - (Ze[:, 1] + ry)
         vn = Ze[:, 4] + Ze[:, 5] * rx
         slip = Ze[:, 3] - Ze[:, 5] * ry
         fn = law.mass * (a[:, 1] + law.g)

@@ -57,7 +57,7 @@ def kinematics(geometry: Geometry, Z: np.ndarray) -> Kinematics:
     Z = np.atleast_2d(np.asarray(Z, dtype=float))
     y, theta, vx, vy, om = Z[:, 1:2], Z[:, 2], Z[:, 3:4], Z[:, 4:5], Z[:, 5:6]
     rx, ry = geometry.arms(theta)
-    d = -(y + ry)
+    d = geometry.onset - (y + ry) if geometry.onset else -(y + ry)
     return Kinematics(geometry, rx, ry, d, vy + om * rx, vx - om * ry, d > 0.0, om)
 
 

@@ -28,6 +28,7 @@ class PointFound:
     residual: float
     relative: float
     uncertainty: np.ndarray
+    bound: np.ndarray | None = None   # each height's round-off bound (m)
 
 
 class OnsetSearch:
@@ -38,6 +39,7 @@ class OnsetSearch:
         self.h = scales.dt
         self.shift = FALL_SHARE.get(integrator, 0.0) * g * self.h * self.h
         self._free = {}
+        self.onset = None
         self.lift = 0.0
         if integrator in READS_AT_END:
             self.lift = -self._free_fall(0.0)[1]
@@ -99,6 +101,8 @@ class OnsetSearch:
             bound = (POINT_ULPS * EPS * (np.abs(ys) + np.hypot(*self.geometry.points[i])) + 4.0 * EPS * self.shift
                      + POINT_ULPS * EPS * self.scales.depth)
             found.append(self._fit(i, np.array(angles), ry, bound))
+            found[-1].bound = bound
+        self.onset = self._world_onset(found)
         turn = None
         if found:
             rotating = [f for f in found if f.point[0] is not None]
@@ -107,6 +111,50 @@ class OnsetSearch:
             elif not self.geometry.rotate:
                 turn = False if all(f.relative <= 1.0 for f in found) else None
         return found, missing, turn
+
+    def _world_onset(self, found: list[PointFound]) -> float | None:
+        """The height above the ground (m) where the force begins, when that is not at the
+        contact points and the same for every point (a world-frame margin or field), or None.
+        Points that turn: each point's l and one shared onset b fitted to r_y = sin(theta) l_x +
+        cos(theta) l_y - b (found replaced by the joint fit where it holds and the points alone
+        do not). A point that does not turn: b = the scene's l_y - the one found (the two are
+        one unknown; named as the onset, the point kept the scene's)."""
+        if not found:
+            return None
+        if not self.geometry.rotate:
+            f = found[0]
+            b = float(self.geometry.points[f.index, 1] - f.point[1])
+            if abs(b) <= f.uncertainty[1] or any(g.relative > 1.0 for g in found):
+                return None
+            for g in found:
+                g.point = (g.point[0], float(self.geometry.points[g.index, 1]))
+            return b
+        if all(f.relative <= 1.0 for f in found) or any(f.point[0] is None for f in found):
+            return None
+        n = len(found)
+        rows, target, bound = [], [], []
+        for j, f in enumerate(found):
+            for th, ry, bd in zip(f.angles, f.ry, f.bound):
+                row = np.zeros(2 * n + 1)
+                row[2 * j:2 * j + 2] = np.sin(th), np.cos(th)
+                row[-1] = -1.0
+                rows.append(row)
+                target.append(ry)
+                bound.append(bd)
+        A, t, bound = np.array(rows), np.array(target), np.array(bound)
+        x = np.linalg.lstsq(A, t, rcond=None)[0]
+        x = x + np.linalg.lstsq(A, t - A @ x, rcond=None)[0]   # one refinement: the residual in metres
+        resid = np.abs(A @ x - t)
+        relative = float(np.max(resid / bound))
+        if relative > 1.0 or A.shape[0] <= A.shape[1]:
+            return None
+        unc = np.abs(np.linalg.pinv(A)) @ bound
+        for j, f in enumerate(found):
+            f.point = (float(x[2 * j]), float(x[2 * j + 1]))
+            f.relative = relative
+            f.residual = float(np.max(resid))
+            f.uncertainty = unc[2 * j:2 * j + 2]
+        return float(x[-1])
 
     def _fit(self, i: int, angles: np.ndarray, ry: np.ndarray, bound: np.ndarray) -> PointFound:
         if self.geometry.rotate:

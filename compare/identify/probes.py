@@ -92,7 +92,7 @@ def state(geometry: Geometry, point: int, theta: float, depth: float, vn=0.0, sl
     """The state that puts `point` at `depth` below the ground with normal velocity vn and slip
     (m/s), the body at angle theta spinning at om: vy = vn - om r_x, vx = slip + om r_y."""
     rx, ry = (float(a) for a in geometry.arm(point, theta))
-    return np.array([x, -ry - depth, theta, slip + om * ry, vn - om * rx, om])
+    return np.array([x, geometry.onset - ry - depth, theta, slip + om * ry, vn - om * rx, om])
 
 
 def flight(geometry: Geometry, scales: Scales) -> Probes:

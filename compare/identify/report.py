@@ -61,6 +61,9 @@ def _effect_line(result: dict, effect: str) -> str:
         c = e.get("closest", {})
         text = (f"no family fits; closest {c.get('law')} ({params_text(c, effect)}), residual "
                 f"{c.get('residual', float('nan')):.3g} {unit} = {c.get('relative', float('nan')):.3g} x round-off")
+    if e.get("onset") is not None:
+        text += (f"; the force begins {abs(e['onset']):.6g} m {'above' if e['onset'] > 0 else 'below'} the ground "
+                 f"at each contact point (depths measured from there)")
     if not e.get("exercised", True):
         text += f" (not exercised: {e.get('why', '')})"
     elif e.get("why"):
