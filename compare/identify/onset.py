@@ -12,6 +12,9 @@ from .roundoff import EPS, POINT_ULPS
 
 # Steps of doubling tried to bracket the onset, up or down from the scene's own point.
 BRACKET_TRIES = 12
+# A force is seen where the step's velocity differs from free fall's by more than this many ulps
+# of the vertical velocity (an angular one times the body's size): the rounding of v1 = v0 - g h.
+TOUCH_ULPS = 2.0
 
 
 @dataclass
@@ -52,8 +55,13 @@ class OnsetSearch:
         return self._free[theta]
 
     def touches(self, theta: float, y: float) -> bool:
+        """Whether the step's velocity change differs from free fall's beyond its rounding:
+        TOUCH_ULPS of |v| (a smooth field's 1e-228 N far above the ground is no force seen; the
+        first force of a penalty law shows a few ulps deeper, inside POINT_ULPS)."""
         v1 = self.calls.one([0.0, y, theta, 0.0, self.lift, 0.0], self.h, f"onset at angle {theta:.6g} rad")[3:]
-        return not np.array_equal(v1, self._free_fall(theta))
+        free = self._free_fall(theta)
+        tol = TOUCH_ULPS * EPS * (np.abs(v1[1]) + np.abs(free[1]))
+        return bool(np.any(np.abs(v1 - free) * np.array([1.0, 1.0, max(self.scales.size, 1e-3)]) > tol))
 
     def height(self, i: int, theta: float) -> float | None:
         """The onset height y* (m) of the centre of mass at angle theta: touching below, not above."""

@@ -52,6 +52,8 @@ def _effect_line(result: dict, effect: str) -> str:
     if not e.get("exercised", True) and e.get("law") is None:
         return f"  {effect:<11} not exercised: {e.get('why', '')}"
     unit = RESIDUAL_UNIT[effect]
+    if e.get("read") is False:
+        return f"  {effect:<11} {e['why']}{_match(result, effect)}"
     if e["law"] is not None:
         text = (f"{e['law']} ({params_text(e, effect)})" if params_text(e, effect) else e["law"])
         text += f"; residual {e['residual']:.2g} {unit} = {e['relative']:.2g} of round-off"

@@ -53,6 +53,15 @@ def effect_entry(effect: str, named: Fit | None, also: list[str], closest: Fit |
     return out
 
 
+def unread_entry(effect: str, largest: float, bound: float) -> dict:
+    """An effect whose probes saw nothing above round-off: no law, and the largest force seen."""
+    unit = "N m" if effect == "rolling" else "N"
+    return {"exercised": True, "read": False, "law": None, **{k: None for k in PARAMETERS[effect]},
+            "residual": None, "relative": None, "largest_force": largest, "scene_relative": None,
+            "why": f"the law could not be read: no probe saw a load above 100 x round-off (largest {effect} force "
+                   f"{largest:.2g} {unit}, round-off {bound:.2g} {unit})"}
+
+
 def gravity_entry(g: float, residual: float, relative: float, scene_relative: float) -> dict:
     """g (m/s^2) when the flight steps are a constant -g to round-off, else None and "closest"."""
     if relative <= 1.0:

@@ -87,3 +87,51 @@ def test_the_four_methods_are_still_named_with_their_measurements():
         it = identify_step(sim, load(name))["integrator"]
         assert it["name"] == load(name).integrator and it["depends_on_dt"] is False
         assert abs(it["beta"] - beta) <= 1e-6
+
+
+# -- contact where the forces show it ----------------------------------------------------------
+
+def test_a_world_frame_margin_is_an_onset_not_points_scaled():
+    """Contacts begin SKIN above each point in the world frame: the box's corners are found where
+    the scene has them, the margin once as the onset (m above the ground), and the law read from
+    there is the scene's (k, c), its onset excepted."""
+    module = outsider("substep_margin")
+    scene = load("box_drop")
+    out = identify_step(Direct(module.step), scene)
+    n = out["normal"]
+    assert abs(n["onset"] - module.SKIN) <= 1e-12, n.get("onset")
+    assert n["law"] == "linear" and abs(n["k"] - scene.contact.k) <= 1e-6 * scene.contact.k
+    for p, want in zip(out["body"]["contact_points"], [(-0.1, -0.05), (0.1, -0.05), (0.1, 0.05), (-0.1, 0.05)]):
+        assert np.allclose(p, want, rtol=0.0, atol=1e-14), p
+    assert out["matches_scene"]["normal"] is False
+    assert "the force begins 0.003 m above the ground" in line(out, "normal")
+
+
+# -- probes where the law carries the body -----------------------------------------------------
+
+def test_a_far_reaching_field_is_probed_where_it_carries_the_weight():
+    """The field A exp(-z / L) is first seen ~0.17 m up; pressed only to the scene's resting
+    depth below that, the probes would see ~1e-12 N and every family would 'fit'. The probes go
+    down to where it carries m g: no family is that exponential, and the friction on that load is
+    read as the code's (smooth Coulomb, mu from the scene, alpha = 1 / V_SMOOTH)."""
+    module = outsider("exp_field")
+    scene = load("point_drop")
+    out = identify_step(Direct(module.step), scene)
+    n, f = out["normal"], out["friction"]
+    z_first = n["onset"] + scene.body.contact_height   # the field's height where the force is first seen
+    assert 0.1 < n["onset"] and z_first > 0.1
+    assert n["law"] is None and n["closest"]["relative"] > 1e6
+    assert f["law"] == "smooth_coulomb" and abs(f["mu"] - scene.contact.mu) <= 1e-9
+    assert abs(f["alpha"] - 1.0 / module.V_SMOOTH) <= 1e-6 / module.V_SMOOTH
+
+
+def test_a_fit_to_round_off_is_no_finding():
+    """A box on the same field: the probes may press a corner only an eighth of the gap to the next
+    one, where the field is still ~1e-11 N. Nothing is named from that: the law could not be read,
+    with the largest force seen."""
+    out = identify_step(Direct(outsider("exp_field").step), load("box_drop"))
+    for effect in ("normal", "friction"):
+        e = out[effect]
+        assert e["law"] is None and e["read"] is False and e["largest_force"] < 1e-6, e
+        assert "the law could not be read" in line(out, effect)
+    assert "none (mu 0)" not in text(out) and "hunt_crossley" not in line(out, "normal")
