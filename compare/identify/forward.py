@@ -22,6 +22,8 @@ def build(law: Law, slots: list[tuple[str, int]], x) -> Law:
             pts = law.geometry.points.copy()
             pts[:, 0] = value
             changes["geometry"] = law.geometry.with_points(pts)
+        elif slot == "onset":
+            changes["geometry"] = changes.get("geometry", law.geometry).with_onset(value)
         else:
             fam, p = changes.get(slot, getattr(law, slot))
             p = list(p)
@@ -37,6 +39,8 @@ def values(law: Law, slots: list[tuple[str, int]]) -> np.ndarray:
             out.append(getattr(law, slot))
         elif slot == "lx":
             out.append(law.geometry.points[0, 0])
+        elif slot == "onset":
+            out.append(law.geometry.onset)
         else:
             out.append(getattr(law, slot)[1][j])
     return np.array(out, dtype=float)

@@ -22,6 +22,9 @@ from ..usersim.scene_dict import scene_dict
 # At most this many steps enter a least-squares fit (evenly spread over the steps where the
 # effect acts, plus the ones where the scene's law is largest); every step is checked after.
 FIT_ROWS = 3000
+# A run of steps is flight when its vertical velocity spans at least this many steps of its
+# constant acceleration (a ballistic arc); a body held by a force has none.
+FLIGHT_SPAN_STEPS = 10
 # Starting points of a sharpness (alpha, roll_sharpness) around the scene's, for a fit over a run.
 SHARPNESS_STARTS = (0.1, 1.0, 10.0)
 # Under RK4 a step's velocity change in one channel depends on every force at its stages: each
@@ -72,6 +75,8 @@ class RunIdentification:
             out["gravity"] = {"exercised": False, "g": None, "residual": None, "relative": None,
                               "scene_relative": None, "why": "no flight step (at rest m g = k d: gravity and "
                               "the spring are not told apart); the scene's g is taken"}
+        self.forced = self._forced(g)
+        self.onset = self._onset_seen(self.forced)
         # the integrator's class from the position update of every step
         tests = {}
         for name, share in POSITION_SHARE.items():
@@ -182,15 +187,59 @@ class RunIdentification:
         b["points_match"] = True
         return b
 
+    def _free_bound(self) -> tuple[np.ndarray, np.ndarray]:
+        """(velocity change over h (n, 3), its round-off bound (n, 3)) of every step, no force but
+        gravity's (the file's rounding included)."""
+        a = (self.Z1[:, 3:] - self.Z0[:, 3:]) / self.H[:, None]
+        b = rate_bound(self.law_s.with_(normal=None, friction=None, rolling=None), "semi_implicit_euler",
+                       self.Z0, self.Z1, self.H, self.rounding, sensitivity=False) / inertias(self.law_s)
+        return a, b
+
     def _flight(self) -> np.ndarray:
-        """Steps with every point above the ground at both ends by more than it moves in a step."""
-        law = self.law_s.with_(normal=None, friction=None, rolling=None)
-        reach = np.full(len(self.Z0), -np.inf)
-        for Z in (self.Z0, self.Z1):
-            c = contacts(law, Z)
-            if c.d.size:
-                reach = np.maximum(reach, (c.d + self.H[:, None] * np.abs(c.vn)).max(axis=1))
-        return reach < 0.0
+        """The steps no force but a constant gravity acts on, from the forces seen, wherever the
+        body is: no horizontal or angular velocity change beyond round-off, and one vertical
+        acceleration shared by a run of steps whose vertical velocity spans at least
+        FLIGHT_SPAN_STEPS steps of it (a body at rest on a force is no flight: its velocity does
+        not move). Without gravity in the scene, the steps with no velocity change at all."""
+        a, b = self._free_bound()
+        quiet = (np.abs(a[:, 0]) <= b[:, 0]) & (np.abs(a[:, 2]) <= b[:, 2])
+        idx = np.flatnonzero(quiet)
+        if not self.scene.has("gravity"):
+            return quiet & (np.abs(a[:, 1]) <= b[:, 1])
+        flight = np.zeros(len(a), dtype=bool)
+        if not idx.size:
+            return flight
+        order = idx[np.argsort(a[idx, 1])]
+        ay, by = a[order, 1], b[order, 1]
+        cut = np.flatnonzero(np.diff(ay) > by[1:] + by[:-1]) + 1
+        best, best_n = None, 0
+        for group in np.split(order, cut):
+            g = -float(np.median(a[group, 1]))
+            vy = self.Z0[group, 4]
+            if abs(g) <= 100.0 * float(np.max(b[group, 1])):
+                continue   # no acceleration: at rest (or moving uniformly), on a force or not
+            if np.ptp(vy) < FLIGHT_SPAN_STEPS * abs(g) * float(np.max(self.H[group])) or group.size < best_n:
+                continue
+            best, best_n = group, group.size
+        if best is not None:
+            flight[best] = True
+        return flight
+
+    def _forced(self, g: float) -> np.ndarray:
+        """The steps whose velocity change differs from free fall under g beyond round-off."""
+        a, b = self._free_bound()
+        return np.any(np.abs(a - np.array([0.0, -g, 0.0])) > b, axis=1)
+
+    def _onset_seen(self, forced: np.ndarray) -> float | None:
+        """How high above the ground (m) the lowest point was at the highest step a force acted on,
+        when above the step's own travel (a force that begins above the contact points), else None."""
+        if not forced.any():
+            return None
+        c = contacts(self.law_s.with_(normal=None, friction=None, rolling=None), self.Z0[forced])
+        height = -c.d.max(axis=1)
+        travel = self.H[forced] * np.abs(c.vn).max(axis=1)
+        top = int(np.argmax(height))
+        return float(height[top]) if height[top] > travel[top] else None
 
     # -- the laws, under one integrator ---------------------------------------------------
 
@@ -198,7 +247,7 @@ class RunIdentification:
         Z0, Z1, H, rnd = self.Z0, self.Z1, self.H, self.rounding
         approx = "explicit_euler" if integrator == "rk4" else integrator
         Ze = evaluated_at(approx, Z0, Z1)
-        touching = contacts(law, Ze).touching.any(axis=1) | contacts(law, Z1).touching.any(axis=1)
+        touching = contacts(law, Ze).touching.any(axis=1) | contacts(law, Z1).touching.any(axis=1) | self.forced
         out = {}
         # the normal law on the vertical channel
         rows = _rows(touching)
@@ -207,15 +256,22 @@ class RunIdentification:
             start = law.normal[1] if law.normal and law.normal[0] is fam else self._start(None, fam)
             trial = law.with_(normal=(fam, start))
             slots = forward.family_slots(trial, "normal")
+            if self.onset is not None:   # a force seen above the points: where it begins is fitted too
+                trial = trial.with_(geometry=law.geometry.with_onset(self.onset))
+                slots = slots + [("onset", 0)]
             for integ in (integrator,):
                 trial = forward.fit(trial, slots, integ, Z0, Z1, H, rows, [1], rnd, self._bound(integ, law.g))
             fits.append(Fit(fam, trial.normal[1], *self._worst(trial, integrator, np.flatnonzero(touching), [1])))
             laws[fam.name] = trial
         named, also, closest = choose(fits, self.scene.contact.damping_law)
         law = laws[(named or closest).family.name]
-        st_s = self._compare(law.with_(normal=self.law_s.normal, g=self.law_s.g), integrator, Z0, Z1, H, rnd)
+        st_s = self._compare(law.with_(normal=self.law_s.normal, g=self.law_s.g, geometry=self.geometry), integrator,
+                             Z0, Z1, H, rnd)
         scene_fit = Fit(self.law_s.normal[0], self.law_s.normal[1], *st_s.worst(np.flatnonzero(touching), [1]))
         out["normal"] = self._entry("normal", named, also, closest, fits, scene_fit, touching, 1, law, integrator)
+        if self.onset is not None:   # the fitted height where the force begins; the run saw it up to self.onset
+            out["normal"]["onset"] = law.geometry.onset
+            out["normal"]["onset_seen"] = self.onset
         law = self._downstream(law, "normal", scene_fit)
         scores = [(named or closest).relative]
         if normal_only:
