@@ -9,7 +9,7 @@ from custom_sim import Scene
 
 from . import forward
 from .families import FAMILIES
-from .fit import Fit, choose, weights, worst
+from .fit import LSQ_MAX_EVALUATIONS, SCOUT_EVALUATIONS, Fit, choose, weights, worst
 from .from_step import EFFECT_OF, scene_law
 from .geometry import Geometry
 from .integrators import POSITION_SHARE, evaluated_at, position_residual
@@ -67,14 +67,16 @@ class RunIdentification:
             a = (Z1[flight, 3:] - Z0[flight, 3:]) / H[flight, None]
             b = rate_bound(law_s.with_(normal=None), "semi_implicit_euler", Z0[flight], Z1[flight], H[flight],
                            self.rounding) / inertias(law_s)
+            b = np.maximum(b, self._free_bound()[1][flight])   # the torque's floor: the weight's times the size
             w = weights(b[:, 1])
             g = float(np.sum(-a[:, 1] * w) / np.sum(w))
             res, rel = worst(a - np.array([0.0, -g, 0.0]), b)
             out["gravity"] = gravity_entry(g, res, rel, worst(a - np.array([0.0, -law_s.g, 0.0]), b)[1])
         else:   # at rest the weight and the spring share one equation (m g = k d): g is not read
             out["gravity"] = {"exercised": False, "g": None, "residual": None, "relative": None,
-                              "scene_relative": None, "why": "no flight step (at rest m g = k d: gravity and "
-                              "the spring are not told apart); the scene's g is taken"}
+                              "scene_relative": None, "why": "no flight step (no run of steps under one constant "
+                              "acceleration and nothing else: at rest m g = k d, gravity and the spring are "
+                              "not told apart); the scene's g is taken"}
         self.forced = self._forced(g)
         self.onset = self._onset_seen(self.forced)
         # the integrator's class from the position update of every step
@@ -193,6 +195,8 @@ class RunIdentification:
         a = (self.Z1[:, 3:] - self.Z0[:, 3:]) / self.H[:, None]
         b = rate_bound(self.law_s.with_(normal=None, friction=None, rolling=None), "semi_implicit_euler",
                        self.Z0, self.Z1, self.H, self.rounding, sensitivity=False) / inertias(self.law_s)
+        if self.geometry.rotates:   # a torque's round-off is at least the weight's times the body's size
+            b[:, 2] = np.maximum(b[:, 2], b[:, 1] * self.law_s.mass * max(self.geometry.size, 1e-3) / self.law_s.inertia)
         return a, b
 
     def _flight(self) -> np.ndarray:
@@ -221,8 +225,9 @@ class RunIdentification:
             if np.ptp(vy) < FLIGHT_SPAN_STEPS * abs(g) * float(np.max(self.H[group])) or group.size < best_n:
                 continue
             best, best_n = group, group.size
-        if best is not None:
-            flight[best] = True
+        if best is not None:   # a chain of neighbours may drift: keep the steps within round-off of its g
+            g = -float(np.median(a[best, 1]))
+            flight[best[np.abs(a[best, 1] + g) <= b[best, 1]]] = True
         return flight
 
     def _forced(self, g: float) -> np.ndarray:
@@ -332,14 +337,20 @@ class RunIdentification:
             base = self._start(None, fam)
             starts = [base] if len(base) < 2 else [(base[0], base[1] * s) for s in SHARPNESS_STARTS]
             best = None
+            scout = SCOUT_EVALUATIONS if len(starts) > 1 else LSQ_MAX_EVALUATIONS
             for p in starts:
                 trial = law.with_(**{effect: (fam, p)})
                 slots = forward.family_slots(trial, effect)
-                for integ in (integrator,):
-                    trial = forward.fit(trial, slots, integ, Z0, Z1, H, rows, [channel], rnd, self._bound(integ, law.g))
+                trial = forward.fit(trial, slots, integrator, Z0, Z1, H, rows, [channel], rnd,
+                                    self._bound(integrator, law.g), scout)
                 r = self._worst(trial, integrator, np.flatnonzero(touching), [channel])
                 if best is None or r[1] < best[1][1]:
                     best = (trial, r)
+            if len(starts) > 1:   # the best start polished to round-off
+                trial = forward.fit(best[0], forward.family_slots(best[0], effect), integrator, Z0, Z1, H, rows,
+                                    [channel], rnd, self._bound(integrator, law.g))
+                r = self._worst(trial, integrator, np.flatnonzero(touching), [channel])
+                best = (trial, r) if r[1] <= best[1][1] else best
             fits.append(Fit(fam, getattr(best[0], effect)[1], *best[1]))
             laws[fam.name] = best[0]
         field = {"friction": "friction_law", "rolling": "roll_law"}[effect]
@@ -368,14 +379,21 @@ class RunIdentification:
             base = () if fam is None else self._start(None, fam)
             starts = [base] if len(base) < 2 else [(base[0], base[1] * s) for s in SHARPNESS_STARTS]
             best = None
+            scout = SCOUT_EVALUATIONS if len(starts) > 1 else LSQ_MAX_EVALUATIONS
             for p in starts:
                 trial = law if fam is None else law.with_(rolling=(fam, p))
                 slots = ([] if fam is None else forward.family_slots(trial, "rolling")) + [("inertia", 0)]
-                for integ in (integrator,):
-                    trial = forward.fit(trial, slots, integ, Z0, Z1, H, rows, [2], rnd, self._bound(integ, law.g))
+                trial = forward.fit(trial, slots, integrator, Z0, Z1, H, rows, [2], rnd, self._bound(integrator, law.g),
+                                    scout)
                 r = self._worst(trial, integrator, everything, [2])
                 if best is None or r[1] < best[1][1]:
                     best = (trial, r)
+            if len(starts) > 1:   # the best start polished to round-off
+                slots = forward.family_slots(best[0], "rolling") + [("inertia", 0)]
+                trial = forward.fit(best[0], slots, integrator, Z0, Z1, H, rows, [2], rnd,
+                                    self._bound(integrator, law.g))
+                r = self._worst(trial, integrator, everything, [2])
+                best = (trial, r) if r[1] <= best[1][1] else best
             results.append(best)
         if law.rolling is not None:
             fits = [Fit(t.rolling[0], t.rolling[1], *r) for t, r in results]
