@@ -63,7 +63,9 @@ def _effect_line(result: dict, effect: str) -> str:
         c = e.get("closest", {})
         text = (f"no family fits; closest {c.get('law')} ({params_text(c, effect)}), residual "
                 f"{c.get('residual', float('nan')):.3g} {unit} = {c.get('relative', float('nan')):.3g} x round-off")
-    if e.get("onset") is not None:
+    if e.get("onset") is not None and e.get("law") is None and e.get("onset_seen") is not None:
+        text += f"; a force acts up to {e['onset_seen']:.6g} m above the ground (the highest step of the run with one)"
+    elif e.get("onset") is not None:
         text += (f"; the force begins {abs(e['onset']):.6g} m {'above' if e['onset'] > 0 else 'below'} the ground "
                  f"at each contact point (depths measured from there)")
     if not e.get("exercised", True):

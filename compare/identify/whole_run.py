@@ -77,7 +77,7 @@ class RunIdentification:
                               "scene_relative": None, "why": "no flight step (no run of steps under one constant "
                               "acceleration and nothing else: at rest m g = k d, gravity and the spring are "
                               "not told apart); the scene's g is taken"}
-        self.forced = self._forced(g)
+        self.forced = self._forced(g, out["gravity"].get("residual") or 0.0)
         self.onset = self._onset_seen(self.forced)
         # the integrator's class from the position update of every step
         tests = {}
@@ -230,10 +230,11 @@ class RunIdentification:
             flight[best[np.abs(a[best, 1] + g) <= b[best, 1]]] = True
         return flight
 
-    def _forced(self, g: float) -> np.ndarray:
-        """The steps whose velocity change differs from free fall under g beyond round-off."""
+    def _forced(self, g: float, spread: float = 0.0) -> np.ndarray:
+        """The steps whose velocity change differs from free fall under g beyond round-off and the
+        spread (m/s^2) the flight steps g was read from show about it."""
         a, b = self._free_bound()
-        return np.any(np.abs(a - np.array([0.0, -g, 0.0])) > b, axis=1)
+        return np.any(np.abs(a - np.array([0.0, -g, 0.0])) > b + np.array([0.0, spread, 0.0]), axis=1)
 
     def _onset_seen(self, forced: np.ndarray) -> float | None:
         """How high above the ground (m) the lowest point was at the highest step a force acted on,
@@ -274,8 +275,8 @@ class RunIdentification:
                              Z0, Z1, H, rnd)
         scene_fit = Fit(self.law_s.normal[0], self.law_s.normal[1], *st_s.worst(np.flatnonzero(touching), [1]))
         out["normal"] = self._entry("normal", named, also, closest, fits, scene_fit, touching, 1, law, integrator)
-        if self.onset is not None:   # the fitted height where the force begins; the run saw it up to self.onset
-            out["normal"]["onset"] = law.geometry.onset
+        if self.onset is not None:   # where the force begins: the law's fitted onset, else the highest seen
+            out["normal"]["onset"] = law.geometry.onset if named is not None else self.onset
             out["normal"]["onset_seen"] = self.onset
         law = self._downstream(law, "normal", scene_fit)
         scores = [(named or closest).relative]

@@ -135,3 +135,60 @@ def test_a_fit_to_round_off_is_no_finding():
         assert e["law"] is None and e["read"] is False and e["largest_force"] < 1e-6, e
         assert "the law could not be read" in line(out, effect)
     assert "none (mu 0)" not in text(out) and "hunt_crossley" not in line(out, "normal")
+
+
+# -- a run: flight and touching from the forces seen -------------------------------------------
+
+def _run(module, scene):
+    from compare.usersim import scene_dict
+    sd = scene_dict(scene)
+    z = np.array(sd["state0"], dtype=float)
+    out = [z]
+    for _ in range(scene.steps):
+        z = np.array(module.step(z, sd, scene.dt), dtype=float)
+        out.append(z)
+    return np.array(out)
+
+
+def test_a_run_that_lands_on_a_field_reads_g_from_its_fall_and_no_scene_law():
+    """The point falls 0.3 s through air (g exactly), then lands on the field: flight is where
+    the velocity changes by g h alone, not where the scene's point is above y = 0, and the
+    steps on the field are contact steps whatever the geometry says (no scene law echoed)."""
+    import dataclasses
+    from compare.identify import identify_run
+    scene = dataclasses.replace(load("point_drop"), duration=0.6)
+    out = identify_run(_run(outsider("exp_field"), scene), scene)
+    assert abs(out["gravity"]["g"] - scene.g) <= 1e-9 * scene.g
+    n = out["normal"]
+    assert n["exercised"] and n["law"] is None and n["closest"]["relative"] > 1e6
+    assert n["onset_seen"] > 0.01   # the field acts centimetres above the point
+    assert out["friction"]["law"] != "none"
+
+
+def test_a_run_floating_on_a_field_throughout_has_no_gravity_and_no_echo():
+    """Started inside the field, the point never flies: gravity is not read (never 'not a
+    constant g'), and the normal force is no family's (never the scene's k and c with 'residual 0')."""
+    import dataclasses
+    from compare.identify import identify_run
+    base = load("point_drop")
+    scene = dataclasses.replace(base, duration=0.3, initial=dataclasses.replace(base.initial, position=(0.0, 0.08)))
+    out = identify_run(_run(outsider("exp_field"), scene), scene)
+    assert out["gravity"]["exercised"] is False
+    assert out["normal"]["law"] is None and out["normal"]["exercised"]
+    assert "a force acts up to" in line(out, "normal")
+
+
+def test_a_run_resting_on_a_margin_has_a_constant_g_or_none():
+    """A box set down at the scene's resting height on a contact margin 3 mm above the ground:
+    pressed 3 mm too deep, it hops and lands on the margin. Its hops give g exactly (where the
+    scene's points are above y = 0 it rests on the margin: no flight there), and the margin is
+    fitted beside the spring: the scene's k and c, 3 mm up."""
+    import dataclasses
+    from compare.identify import identify_run
+    module = outsider("substep_margin")
+    scene = dataclasses.replace(load("box_slide"), duration=0.3)
+    out = identify_run(_run(module, scene), scene)
+    assert abs(out["gravity"]["g"] - scene.g) <= 1e-9 * scene.g
+    n = out["normal"]
+    assert n["law"] == "linear" and abs(n["onset"] - module.SKIN) <= 1e-9   # max(0, k d - c v_n) from the margin
+    assert abs(n["k"] - scene.contact.k) <= 1e-6 * scene.contact.k
