@@ -192,3 +192,14 @@ def test_a_run_resting_on_a_margin_has_a_constant_g_or_none():
     n = out["normal"]
     assert n["law"] == "linear" and abs(n["onset"] - module.SKIN) <= 1e-9   # max(0, k d - c v_n) from the margin
     assert abs(n["k"] - scene.contact.k) <= 1e-6 * scene.contact.k
+
+
+def test_an_onset_is_no_law_to_run_under():
+    """No [contact] table holds an onset: `--law identified` says so instead of running a law
+    that puts the force 3 mm lower than the code does."""
+    import pytest
+    from compare.identify import NotIdentified, identified_contact
+    scene = load("point_drop")
+    out = identify_step(Direct(outsider("substep_margin").step), scene)
+    with pytest.raises(NotIdentified, match="the force begins 0.003 m above the ground"):
+        identified_contact(scene, out)
