@@ -30,6 +30,10 @@ SHARPNESS_STARTS = (0.1, 1.0, 10.0)
 # Under RK4 a step's velocity change in one channel depends on every force at its stages: each
 # channel is fitted beside the others' laws as found so far, and again while that gets closer.
 RK4_PASSES = 3
+# What the channels' coupling can leave in a channel fitted beside another's wrong law: a part in
+# 1e5 of the force, some 1e2 to 1e3 x round-off (Hunt-Crossley beside the scene's friction:
+# 594). A channel this far off fits no family whatever the others are: no pass again.
+RK4_COUPLING_REACH = 1e6
 
 
 def _rows(mask: np.ndarray, weight: np.ndarray | None = None) -> np.ndarray:
@@ -116,7 +120,7 @@ class RunIdentification:
         results = {c: self._fit_laws(law, c) for c in candidates}
         if "rk4" in results:   # RK4's stages couple the channels: fit each again beside the others found
             for _ in range(RK4_PASSES):
-                if results["rk4"]["score"] <= 1.0:
+                if results["rk4"]["score"] <= 1.0 or _farthest(results["rk4"]) > RK4_COUPLING_REACH:
                     break
                 again = self._fit_laws(results["rk4"]["law"], "rk4")
                 if not again["score"] <= results["rk4"]["score"]:   # inf while a channel fits no family
@@ -435,6 +439,19 @@ class RunIdentification:
             entry["why"] = (f"the run never separates {', '.join([entry['law'], *also])}: "
                             "each reproduces every step")
         return entry
+
+
+def _farthest(result: dict) -> float:
+    """The largest relative residual of a fit's effects (their law's, else their closest's)."""
+    worst_rel = 0.0
+    for effect in ("normal", "friction", "rolling", "body"):
+        e = result.get(effect) or {}
+        rel = e.get("relative")
+        if rel is None:
+            rel = (e.get("closest") or {}).get("relative")
+        if rel is not None:
+            worst_rel = max(worst_rel, float(rel))
+    return worst_rel
 
 
 def identify_run(states, scene: Scene, rounding=None, source: str = "whole") -> dict:
