@@ -16,7 +16,8 @@ from .integrators import evaluated_at
 from .model import Law
 from .observed import Rows, TorqueRows, fit_effect, fit_torque, model_of, torque_model
 from .onset import OnsetSearch
-from .probes import DEPTH_SHARE_OF_MARGIN, FRICTION_DEPTHS, NORMAL_DEPTHS, Probes, Scales, contact_states, flight, main_point, pairs, state
+from .probes import (DEPTH_SHARE_OF_MARGIN, FRICTION_DEPTHS, NORMAL_DEPTHS, Probes, Scales, contact_states, flight,
+                     main_point, pairs, state)
 from .result import body_entry, effect_entry, gravity_entry, integrator_entry, not_exercised, unread_entry
 from .roundoff import inertias, rate_bound
 from .stepping import contact_shown, decide, integrator_tests, rates, restart_states

@@ -90,8 +90,9 @@ def integrator_tests(law: Law, flight: Probes, pairs: Probes | None, restart: tu
             mine["position"] = _rel(position_residual(flight.Z0, flight.Z1, flight.H, share),
                                     position_bound(name, flight.Z0, flight.Z1, flight.H))
         if pairs is not None and len(pairs) and name != "rk4":
-            mine["position"] = max(mine.get("position", 0.0), _rel(
-                position_residual(pairs.Z0, pairs.Z1, pairs.H, share), position_bound(name, pairs.Z0, pairs.Z1, pairs.H)))
+            in_pairs = _rel(position_residual(pairs.Z0, pairs.Z1, pairs.H, share),
+                            position_bound(name, pairs.Z0, pairs.Z1, pairs.H))
+            mine["position"] = max(mine.get("position", 0.0), in_pairs)
             read = end if name == "implicit_euler" else start
             if read is not None:
                 mine["read"] = read
@@ -113,9 +114,10 @@ def beta_words(beta: float | None) -> str:
     if beta is None:
         return "beta not measured (no velocity changed in flight)"
     text = f"beta = {beta:.6g}"
+    between = "between explicit and semi-implicit Euler, as substeps moving"
     for lo, hi, words in ((-np.inf, 0.0, "below explicit Euler's 0"),
-                          (0.0, 0.5, "between explicit and semi-implicit Euler, as substeps moving positions first give"),
-                          (0.5, 1.0, "between explicit and semi-implicit Euler, as substeps moving velocities first give"),
+                          (0.0, 0.5, f"{between} positions first give"),
+                          (0.5, 1.0, f"{between} velocities first give"),
                           (1.0, np.inf, "above semi-implicit Euler's 1")):
         if lo < beta < hi:
             return f"{text} ({words})"

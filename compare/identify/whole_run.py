@@ -200,7 +200,8 @@ class RunIdentification:
         b = rate_bound(self.law_s.with_(normal=None, friction=None, rolling=None), "semi_implicit_euler",
                        self.Z0, self.Z1, self.H, self.rounding, sensitivity=False) / inertias(self.law_s)
         if self.geometry.rotates:   # a torque's round-off is at least the weight's times the body's size
-            b[:, 2] = np.maximum(b[:, 2], b[:, 1] * self.law_s.mass * max(self.geometry.size, 1e-3) / self.law_s.inertia)
+            arm = max(self.geometry.size, 1e-3)
+            b[:, 2] = np.maximum(b[:, 2], b[:, 1] * self.law_s.mass * arm / self.law_s.inertia)
         return a, b
 
     def _flight(self) -> np.ndarray:

@@ -9,7 +9,7 @@ SUBSTEPS = 8          # position-first substeps per frame: beta = (8 - 1) / 16 =
 
 def _frame_forces(s, scene):
     mp, ct, on = scene["mass_properties"], scene["contact"], scene["effects"]
-    x, y, th, vx, vy, w = s
+    _, y, th, vx, vy, w = s
     F = [0.0, -mp["mass"] * scene["g"] if "gravity" in on else 0.0, 0.0]
     if "contact" not in on:
         return F

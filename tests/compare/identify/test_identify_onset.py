@@ -155,6 +155,7 @@ def test_a_run_that_lands_on_a_field_reads_g_from_its_fall_and_no_scene_law():
     the velocity changes by g h alone, not where the scene's point is above y = 0, and the
     steps on the field are contact steps whatever the geometry says (no scene law echoed)."""
     import dataclasses
+
     from compare.identify import identify_run
     scene = dataclasses.replace(load("point_drop"), duration=0.6)
     out = identify_run(_run(outsider("exp_field"), scene), scene)
@@ -169,6 +170,7 @@ def test_a_run_floating_on_a_field_throughout_has_no_gravity_and_no_echo():
     """Started inside the field, the point never flies: gravity is not read (never 'not a
     constant g'), and the normal force is no family's (never the scene's k and c with 'residual 0')."""
     import dataclasses
+
     from compare.identify import identify_run
     base = load("point_drop")
     scene = dataclasses.replace(base, duration=0.3, initial=dataclasses.replace(base.initial, position=(0.0, 0.08)))
@@ -184,6 +186,7 @@ def test_a_run_resting_on_a_margin_has_a_constant_g_or_none():
     scene's points are above y = 0 it rests on the margin: no flight there), and the margin is
     fitted beside the spring: the scene's k and c, 3 mm up."""
     import dataclasses
+
     from compare.identify import identify_run
     module = outsider("substep_margin")
     scene = dataclasses.replace(load("box_slide"), duration=0.3)
@@ -198,6 +201,7 @@ def test_an_onset_is_no_law_to_run_under():
     """No [contact] table holds an onset: `--law identified` says so instead of running a law
     that puts the force 3 mm lower than the code does."""
     import pytest
+
     from compare.identify import NotIdentified, identified_contact
     scene = load("point_drop")
     out = identify_step(Direct(outsider("substep_margin").step), scene)
