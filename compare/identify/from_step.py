@@ -137,10 +137,10 @@ class StepIdentification:
         return self._finish(out, start)
 
     def _working_depth(self, law: Law, integrator: str) -> Scales:
-        """The scales with the probe depths where the step's normal force is of the order of m g.
-        The scene's resting compression where the main point at rest carries between
-        FORCE_OF_WEIGHT and 1 / FORCE_OF_WEIGHT of m g there (the depths are then its multiples,
-        as always); else, for each multiple s of the probe depth, the depth (from the onset) where
+        """The scales with the probe depths where the step's normal force is of the order of m g,
+        at least the scene's. The scene's resting compression where the main point at rest
+        carries FORCE_OF_WEIGHT of m g or more there (the depths are then its multiples, as
+        always); else, for each multiple s of the probe depth, the depth (from the onset) where
         the force at rest is s m g, by doubling and bisection (never past an eighth of the gap to
         the next point, nor past a depth where the step's state stops being finite)."""
         import dataclasses
@@ -163,7 +163,7 @@ class StepIdentification:
 
         d0 = min(self.scales.depth, limit)
         f0 = force(d0)
-        if FORCE_OF_WEIGHT * weight <= f0 <= weight / FORCE_OF_WEIGHT:
+        if f0 >= FORCE_OF_WEIGHT * weight:   # the scene's depth already carries the weight: at least that deep
             return self.scales
         depths = {}
         for share in sorted({*NORMAL_DEPTHS, *FRICTION_DEPTHS}):
@@ -179,7 +179,7 @@ class StepIdentification:
                     lo = hi = mid
                     break
                 lo, hi = (mid, hi) if f < want else (lo, mid)
-            depths[share] = 0.5 * (lo + hi)
+            depths[share] = max(0.5 * (lo + hi), share * d0)
         return dataclasses.replace(self.scales, depth=depths[1.0], depths=depths, rest=d0)
 
     def _unread(self, law: Law, P: Probes) -> dict:
