@@ -87,6 +87,8 @@ def text(result: dict) -> str:
         c = it.get("closest", {})
         closest = f"closest {c.get('name')}, {c.get('residual', float('nan')):.3g} x round-off"
         if it.get("why", "").startswith("none:"):   # the measurements: beta, and whether the force depends on dt
+            closest = (f"closest in beta {c.get('name')}, its position update {c.get('residual', float('nan')):.3g} x "
+                       f"round-off")
             lines.append(f"  {'integrator':<11} {it['why']}; {closest}{_match(result, 'integrator')}")
         else:
             lines.append(f"  {'integrator':<11} none of the four ({it.get('why', '')}; {closest})"

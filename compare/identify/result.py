@@ -80,6 +80,8 @@ def integrator_entry(name, closest: str, relative: float, tests: dict, why: str,
         out["beta"] = tests["beta"]
         out["beta_uncertainty"] = tests.get("beta_uncertainty")
         out["depends_on_dt"] = tests.get("depends_on_dt")
+    if "parts" in tests:   # each method's position-update test alone (what `closest` is chosen by)
+        out["position_tests"] = {k: v.get("position") for k, v in tests["parts"].items()}
     if name is None:
         out["closest"] = {"name": closest, "residual": relative}
     return out

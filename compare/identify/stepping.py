@@ -144,13 +144,13 @@ def decide(tests: dict) -> tuple[str | None, str, float, str]:
     """(name or None, closest, its residual, why) from integrator_tests. A method is named only
     where both its position update (beta) and where it reads the force match it; RK4 (beta 1/2,
     the force read at neither end) stays a candidate ("rk4?") for the law fit to confirm.
-    `closest`: among the methods whose beta matches, the one whose largest test is smallest; else
-    the one whose beta is nearest (its position test smallest)."""
+    `closest` (where none is named): the method whose position update (beta) is nearest, by the
+    one test every method has in flight and contact alike; its residual is that test's."""
     names = [k for k in NAMES if tests.get(k) is not None]
     passing = [k for k in names if k != "rk4" and tests[k] <= 1.0]
     # nearest first in beta (the one measurement every method has), then in its largest test
-    closest = min(names, key=lambda k: (not _share_matches(tests, k), tests["parts"][k].get("position", np.inf),
-                                        tests[k]), default="rk4")
+    closest = min(names, key=lambda k: (tests["parts"][k].get("position", np.inf), tests[k]), default="rk4")
+    near = tests["parts"].get(closest, {}).get("position", tests.get(closest))
     if len(passing) == 1:
         return passing[0], passing[0], tests[passing[0]], "law-free tests"
     if len(passing) > 1:
@@ -164,4 +164,4 @@ def decide(tests: dict) -> tuple[str | None, str, float, str]:
         why = f"none: beta = {POSITION_SHARE[share]:g} ({share}'s)"
     if tests.get("depends_on_dt"):
         why += ", and the force depends on the step size (dt and dt/2 read different forces at one state)"
-    return None, closest, tests[closest], why
+    return None, closest, near, why

@@ -53,6 +53,7 @@ def test_substeps_are_measured_as_their_position_share_not_named_a_method():
     assert it["depends_on_dt"] is False
     assert "none: beta = 0.4375 (between explicit and semi-implicit Euler" in line(out, "integrator")
     assert it["closest"]["name"] == "rk4"   # the nearest beta (1/2), no method matching it
+    assert it["closest"]["residual"] == min(it["position_tests"].values())
 
 
 def _baumgarte_step(state, scene, dt):
@@ -75,9 +76,13 @@ def test_a_force_that_depends_on_dt_is_said_so_beside_its_beta():
     it = out["integrator"]
     assert it["name"] is None and abs(it["beta"]) <= 1e-6
     assert it["depends_on_dt"] is True
-    assert it["closest"]["name"] == "explicit_euler"   # its beta, not the nearest largest test (rk4 in flight only)
+    # its beta: the one test every method has; rk4's largest test (flight only) is smaller than
+    # explicit Euler's (which has the dt test too), but its position update is further off
+    assert it["closest"]["name"] == "explicit_euler"
+    assert it["closest"]["residual"] == min(it["position_tests"].values()) <= 1.0
     words = line(out, "integrator")
     assert "none: beta = 0 (explicit_euler's), and the force depends on the step size" in words, words
+    assert "closest in beta explicit_euler" in words
 
 
 def test_the_four_methods_are_still_named_with_their_measurements():
