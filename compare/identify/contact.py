@@ -21,8 +21,14 @@ def identified_contact(scene: Scene, identification: dict) -> Contact:
     and parameters. "none" (the step applies no friction or rolling resistance) becomes mu = 0
     (mu_roll = 0) under the scene's family: the same forces. An effect not exercised keeps the
     scene's, and so does one the scene's own law reproduces to round-off (a fitted c of 3e-16
-    where the scene has 0 is that 0). Raises NotIdentified where an exercised effect's law is None."""
+    where the scene has 0 is that 0). Raises NotIdentified where an exercised effect's law is None,
+    or where the force begins away from the contact points (an onset no [contact] table holds)."""
     changes: dict = {}
+    onset = (identification.get("normal") or {}).get("onset")
+    if onset is not None:
+        raise NotIdentified(f"{identification.get('scene', scene.name)}: normal: the force begins {onset:.6g} m "
+                            f"{'above' if onset > 0 else 'below'} the ground, not at the contact points, which no "
+                            f"[contact] law can say; no identified law to run")
     for effect, (field, neutral) in _FIELDS.items():
         entry = identification.get(effect) or {}
         if not entry.get("exercised"):

@@ -1,6 +1,7 @@
 """Fitting one family: weighted least squares on the residual over its round-off bound, and the choice."""
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -18,6 +19,9 @@ LSQ_MAX_EVALUATIONS = 400
 # The nonlinear parameters (alpha s/m, roll_sharpness s/rad) tried before the polish: a
 # logarithmic grid wide enough for a stiction band from 10 m/s down to 1 um/s.
 SHARPNESS_GRID = np.geomspace(0.1, 1e6, 43)
+# Several starting points of one family are each taken this far, and only the best polished to
+# round-off (a family that fits nothing would spend LSQ_MAX_EVALUATIONS from every start).
+SCOUT_EVALUATIONS = 30
 
 
 @dataclass
@@ -40,9 +44,9 @@ class Fit:
         return dict(zip(self.family.params, self.params))
 
 
-def polish(fun, x0, lower=None) -> np.ndarray:
-    """least_squares from x0 to round-off, each parameter at least `lower` (None: free); x0
-    returned when it is already a better point."""
+def polish(fun, x0, lower=None, max_nfev: int = LSQ_MAX_EVALUATIONS) -> np.ndarray:
+    """least_squares from x0 to round-off (or max_nfev evaluations), each parameter at least
+    `lower` (None: free); x0 returned when it is already a better point."""
     x0 = np.asarray(x0, dtype=float)
     if x0.size == 0:
         return x0
@@ -54,9 +58,13 @@ def polish(fun, x0, lower=None) -> np.ndarray:
     from scipy.optimize import least_squares   # here: a passing run never fits a law
 
     try:
-        sol = least_squares(fun, x0, method="trf", x_scale="jac", bounds=(lower, np.inf),
-                            xtol=LSQ_TOL, ftol=LSQ_TOL, gtol=LSQ_TOL, max_nfev=LSQ_MAX_EVALUATIONS)
+        with np.errstate(all="ignore"), warnings.catch_warnings():   # a family far off overflows on the way
+            warnings.simplefilter("ignore", RuntimeWarning)
+            sol = least_squares(fun, x0, method="trf", x_scale="jac", bounds=(lower, np.inf),
+                                xtol=LSQ_TOL, ftol=LSQ_TOL, gtol=LSQ_TOL, max_nfev=max_nfev)
     except (ValueError, np.linalg.LinAlgError):
+        return x0
+    if not np.all(np.isfinite(sol.fun)):
         return x0
     return sol.x if np.sum(sol.fun ** 2) <= np.sum(r0 ** 2) else x0
 

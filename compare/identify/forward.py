@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fit import PARAMETER_FLOOR, polish, worst
+from .fit import LSQ_MAX_EVALUATIONS, PARAMETER_FLOOR, polish, worst
 from .integrators import evaluated_at, predicted_rate
 from .model import Law, kinematics
 from .roundoff import inertias, rate_bound
@@ -22,6 +22,8 @@ def build(law: Law, slots: list[tuple[str, int]], x) -> Law:
             pts = law.geometry.points.copy()
             pts[:, 0] = value
             changes["geometry"] = law.geometry.with_points(pts)
+        elif slot == "onset":
+            changes["geometry"] = changes.get("geometry", law.geometry).with_onset(value)
         else:
             fam, p = changes.get(slot, getattr(law, slot))
             p = list(p)
@@ -37,6 +39,8 @@ def values(law: Law, slots: list[tuple[str, int]]) -> np.ndarray:
             out.append(getattr(law, slot))
         elif slot == "lx":
             out.append(law.geometry.points[0, 0])
+        elif slot == "onset":
+            out.append(law.geometry.onset)
         else:
             out.append(getattr(law, slot)[1][j])
     return np.array(out, dtype=float)
@@ -71,7 +75,7 @@ def compare(law: Law, integrator: str, Z0, Z1, H, rounding=None, base: np.ndarra
 
 
 def fit(law: Law, slots, integrator: str, Z0, Z1, H, rows, channels, rounding=None,
-        bound: np.ndarray | None = None) -> Law:
+        bound: np.ndarray | None = None, max_nfev: int = LSQ_MAX_EVALUATIONS) -> Law:
     """The law with `slots` fitted by least squares on the rows and channels given (weights:
     1 / the starting law's round-off bound, or `bound`)."""
     if not slots:
@@ -92,4 +96,4 @@ def fit(law: Law, slots, integrator: str, Z0, Z1, H, rows, channels, rounding=No
             r = ((rate - predicted_rate(trial, integrator, Z0r, Z1r, Hr, kin)[:, channels]) * M / B).ravel()
         return np.where(np.isfinite(r), r, 1e150)
     lower = [-np.inf if slot in ("lx", "inertia") else PARAMETER_FLOOR for slot, _ in slots]
-    return build(law, slots, polish(fun, values(law, slots), lower))
+    return build(law, slots, polish(fun, values(law, slots), lower, max_nfev))

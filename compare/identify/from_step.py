@@ -16,13 +16,25 @@ from .integrators import evaluated_at
 from .model import Law
 from .observed import Rows, TorqueRows, fit_effect, fit_torque, model_of, torque_model
 from .onset import OnsetSearch
-from .probes import Probes, Scales, contact_states, flight, pairs
+from .probes import (DEPTH_SHARE_OF_MARGIN, FRICTION_DEPTHS, NORMAL_DEPTHS, Probes, Scales, contact_states, flight,
+                     main_point, pairs, state)
 from .replay import keeps_state
-from .result import body_entry, effect_entry, settle_body, gravity_entry, integrator_entry, not_exercised
+from .result import (body_entry, effect_entry, gravity_entry, integrator_entry, not_exercised, settle_body,
+                     unread_entry)
 from .roundoff import inertias, rate_bound
 from .stepping import contact_shown, decide, integrator_tests, rates, restart_states
 
 EFFECT_OF = {"normal": "contact", "friction": "friction", "rolling": "rolling_friction"}
+# The probes press the main point until its force at rest is at least this share of the weight
+# (the law is read where it carries the body, not where its first ulps show).
+FORCE_OF_WEIGHT = 0.5
+DEPTH_DOUBLINGS = 40
+DEPTH_BISECTIONS = 60
+# The force at each depth found is this close to its multiple of m g (the depths need not be exact).
+DEPTH_FORCE_RTOL = 0.05
+# A fit whose probes saw no load above this many times its round-off bound is no finding: every
+# family fits noise (a spring of 1e-11 N/m "reproduces" forces of 1e-12 N).
+READABLE = 100.0
 
 
 def scene_law(scene: Scene, scene_d: dict, geometry: Geometry | None = None) -> Law:
@@ -80,7 +92,7 @@ class StepIdentification:
         out["gravity"] = gravity_entry(g, g_res, g_rel, g_scene)
         g_use = g if g_rel <= 1.0 else law_s.g
         contact = scene.has("contact")
-        P2 = restart = None
+        P2 = restart = quarter = None
         if contact:
             P2 = pairs(self.geometry_scene, self.scales)
             P2.Z1 = self.calls.many(P2.Z0, P2.H, "contact at dt and dt/2")
@@ -95,12 +107,17 @@ class StepIdentification:
         if contact:
             Zr, Hr = restart_states(P2)
             restart = ((Zr, Hr), self.calls.many(Zr, Hr, "implicit Euler restart"))
+            quarter = self.calls.many(P2.Z0[0::2], 0.25 * P2.H[0::2], "contact at dt/4")
         law0 = law_s.with_(g=g_use)
-        tests = integrator_tests(law0, F, P2, restart)
+        tests = integrator_tests(law0, F, P2, restart, quarter)
         name, closest, rel, why = decide(tests)
         if contact and not contact_shown(law0, F, P2):
             name, why = None, "the contact probes show no force (the step never touches the ground here)"
         used = closest if name is None else ("rk4" if name == "rk4?" else name)
+        if name is None and tests.get("reads_at_end") and not tests.get("reads_at_start"):
+            used = "implicit_euler"       # the force at the end of the step, whatever moves the positions
+        elif name is None and (tests.get("reads_at_start") or closest != "rk4"):
+            used = "explicit_euler"       # the force at the start: m (v1 - v0) / h is the force at z0
         if not contact:
             out["integrator"] = integrator_entry(name if name != "rk4?" else "rk4", closest, rel, tests, why, scene)
             for effect in ("normal", "friction", "rolling"):
@@ -110,23 +127,29 @@ class StepIdentification:
 
         search = OnsetSearch(self.calls, self.geometry_scene, self.scales, g_use, used)
         found, missing, turn = search.points()
-        geometry = self._geometry(found, turn)
+        geometry = self._geometry(found, turn).with_onset(search.onset or 0.0)
         law = law0.with_(geometry=geometry)
+        self.scales = self._working_depth(law, used)
         P = contact_states(geometry, self.scales, scene.has("friction"), scene.has("rolling_friction"))
         P.Z1 = self.calls.many(P.Z0, P.H, "contact")
         if used == "rk4":
             fits = self._fit_rk4(law, P)
         else:
             fits = self._fit_euler(law, P, used)
+        unread = self._unread(law, P)
         if name == "rk4?":
             name = "rk4" if fits["rk4_relative"] <= 1.0 else None
             rel = max(rel, fits["rk4_relative"])
+            if name:
+                tests["depends_on_dt"] = False   # a law of the state, stepped by RK4, reproduces it
             why = "flight and the contact probes stepped by RK4 under the law found" if name else \
-                "no Euler step; RK4 under the closest laws does not reproduce the contact probes"
+                "none: beta = 1/2 (RK4's), but RK4 under the closest laws does not reproduce the contact probes"
         out["integrator"] = integrator_entry(name, closest if name is None else name, rel, tests, why, scene)
         for effect in ("normal", "friction", "rolling"):
             if not scene.has(EFFECT_OF[effect]):
                 out[effect] = not_exercised(f"the scene does not list {EFFECT_OF[effect]}")
+            elif effect in unread:
+                out[effect] = unread_entry(effect, *unread[effect])
             else:
                 out[effect] = effect_entry(effect, *fits[effect], fits["scene_" + effect])
         out["body"] = body_entry(law_s, fits["body"], found, missing, scene, turn=turn,
@@ -134,6 +157,8 @@ class StepIdentification:
         # Euler: the torque rests on the forces read off the step and the rolling law fitted beside
         # the inertia; RK4: on every law found, stepped here
         settle_body(out, ("normal", "friction", "rolling") if used == "rk4" else ("rolling",))
+        if search.onset is not None:   # the force begins above (or below) the contact points
+            out["normal"]["onset"] = search.onset
         return self._finish(out, start)
 
     def _from_run(self, why: str) -> dict:
@@ -145,10 +170,76 @@ class StepIdentification:
         out.update(keeps_state=True, keeps_state_why=why, calls=self.calls.count)
         return out
 
+    def _working_depth(self, law: Law, integrator: str) -> Scales:
+        """The scales with the probe depths where the step's normal force is of the order of m g,
+        at least the scene's. The scene's resting compression where the main point at rest
+        carries FORCE_OF_WEIGHT of m g or more there (the depths are then its multiples, as
+        always); else, for each multiple s of the probe depth, the depth (from the onset) where
+        the force at rest is s m g, by doubling and bisection (never past an eighth of the gap to
+        the next point, nor past a depth where the step's state stops being finite)."""
+        import dataclasses
+
+        from ..usersim.errors import UserCodeError
+        i, theta, gap = main_point(law.geometry)
+        weight = law.mass * max(law.g, 0.0)
+        limit = DEPTH_SHARE_OF_MARGIN * gap
+        if weight <= 0.0:
+            return self.scales
+        h = self.scales.dt
+
+        def force(d):
+            z0 = state(law.geometry, i, theta, d)
+            try:
+                z1 = self.calls.one(z0, h, "the depth where the force is m g")
+            except UserCodeError:
+                return np.inf
+            return law.mass * ((z1[4] - z0[4]) / h + law.g)
+
+        d0 = min(self.scales.depth, limit)
+        f0 = force(d0)
+        if f0 >= FORCE_OF_WEIGHT * weight:   # the scene's depth already carries the weight: at least that deep
+            return self.scales
+        depths = {}
+        for share in sorted({*NORMAL_DEPTHS, *FRICTION_DEPTHS}):
+            want = share * weight
+            lo, hi = 0.0, d0
+            while force(hi) < want and hi < limit and len(depths) < 1 + DEPTH_DOUBLINGS and hi < 1e6 * d0:
+                lo, hi = hi, 2.0 * hi
+            hi = min(hi, limit)
+            for _ in range(DEPTH_BISECTIONS):
+                mid = 0.5 * (lo + hi)
+                f = force(mid)
+                if abs(f - want) <= DEPTH_FORCE_RTOL * want:
+                    lo = hi = mid
+                    break
+                lo, hi = (mid, hi) if f < want else (lo, mid)
+            depths[share] = max(0.5 * (lo + hi), share * d0)
+        return dataclasses.replace(self.scales, depth=depths[1.0], depths=depths, rest=d0)
+
+    def _unread(self, law: Law, P: Probes) -> dict:
+        """{effect: (largest force seen N, its bound N)} for each effect whose probes saw no force
+        above READABLE x round-off: a fit to those is no finding. The normal force on the normal
+        probes; friction and rolling on the load they scale with, and their own force."""
+        r = self._readings(law, P, "explicit_euler")
+        B = rate_bound(law, "explicit_euler", P.Z0, P.Z1, P.H)
+        out = {}
+        for effect, kinds, force, ch in (("normal", ("normal",), r["fn"], 1),
+                                         ("friction", ("normal", "friction", "rolling"), r["ft"], 0),
+                                         ("rolling", ("rolling",), r["a"][:, 2] * inertias(law)[2], 2)):
+            rows = np.isin(P.kind, kinds)
+            if not rows.any():
+                continue
+            load = np.max(np.abs(r["fn"][rows]) / np.maximum(B[rows, 1], np.finfo(float).tiny))
+            if load <= READABLE:
+                out[effect] = (float(np.max(np.abs(force[rows]))), float(np.max(B[rows, ch])))
+        return out
+
     def _finish(self, out: dict, start: float) -> dict:
         from .result import matches
         out["keeps_state"] = False
         out["matches_scene"] = matches(out, self.scene)
+        if out.get("normal", {}).get("onset") is not None:   # the scene's force begins at its points
+            out["matches_scene"]["normal"] = False
         out["calls"] = self.calls.count
         out["seconds"] = time.perf_counter() - start
         return out
@@ -178,7 +269,7 @@ class StepIdentification:
         rx, ry = law.geometry.arms(Ze[:, 2])
         idx = np.arange(len(P))
         rx, ry = rx[idx, P.point], ry[idx, P.point]
-        d = -(Ze[:, 1] + ry)
+        d = law.geometry.onset - (Ze[:, 1] + ry)
         vn = Ze[:, 4] + Ze[:, 5] * rx
         slip = Ze[:, 3] - Ze[:, 5] * ry
         fn = law.mass * (a[:, 1] + law.g)

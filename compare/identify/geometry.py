@@ -12,11 +12,14 @@ ARC_SAMPLES = 3600
 @dataclass(frozen=True)
 class Geometry:
     """points (n, 2): contact points relative to the centre of mass, body frame (m); rotate: they
-    turn with theta (box, compound); rotates: theta is a degree of freedom (not the point mass)."""
+    turn with theta (box, compound); rotates: theta is a degree of freedom (not the point mass);
+    onset: the height above the ground (m, world frame) where a point's force begins (0: at the
+    ground; a collision margin or a field starts it above)."""
 
     points: np.ndarray
     rotate: bool
     rotates: bool
+    onset: float = 0.0
 
     @classmethod
     def of_scene(cls, scene_d: dict) -> "Geometry":
@@ -89,4 +92,7 @@ class Geometry:
         return arcs
 
     def with_points(self, points: np.ndarray) -> "Geometry":
-        return Geometry(np.asarray(points, dtype=float).reshape(-1, 2), self.rotate, self.rotates)
+        return Geometry(np.asarray(points, dtype=float).reshape(-1, 2), self.rotate, self.rotates, self.onset)
+
+    def with_onset(self, onset: float) -> "Geometry":
+        return Geometry(self.points, self.rotate, self.rotates, float(onset))

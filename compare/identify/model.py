@@ -57,14 +57,19 @@ def kinematics(geometry: Geometry, Z: np.ndarray) -> Kinematics:
     Z = np.atleast_2d(np.asarray(Z, dtype=float))
     y, theta, vx, vy, om = Z[:, 1:2], Z[:, 2], Z[:, 3:4], Z[:, 4:5], Z[:, 5:6]
     rx, ry = geometry.arms(theta)
-    d = -(y + ry)
+    d = geometry.onset - (y + ry) if geometry.onset else -(y + ry)
     return Kinematics(geometry, rx, ry, d, vy + om * rx, vx - om * ry, d > 0.0, om)
 
 
 def contacts(law: Law, Z: np.ndarray, kin: Kinematics | None = None) -> Contacts:
     """The contact quantities of every point at states Z (n, 6); kin: kinematics(law.geometry,
-    Z) when already computed (it is used only for that geometry)."""
-    if kin is None or kin.geometry is not law.geometry:
+    Z) when already computed (it is used only for that geometry, or for the same points with
+    another onset: the depths shifted)."""
+    if kin is not None and kin.geometry is not law.geometry and kin.geometry.points is law.geometry.points \
+            and kin.geometry.rotate == law.geometry.rotate:   # the same points, another onset: d shifts
+        d = kin.d + (law.geometry.onset - kin.geometry.onset)
+        kin = replace(kin, geometry=law.geometry, d=d, touching=d > 0.0)
+    elif kin is None or kin.geometry is not law.geometry:
         kin = kinematics(law.geometry, Z)
     d, vn, slip, touching, om = kin.d, kin.vn, kin.slip, kin.touching, kin.om
     zero = np.zeros_like(d)

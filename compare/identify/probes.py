@@ -74,6 +74,12 @@ class Scales:
     band: float
     spin_band: float
     size: float
+    depths: dict | None = None   # {multiple of the probe depth: depth m} where the law is not linear
+    rest: float = 0.0            # the scene's resting compression m g / k (m), kept when depths are measured
+
+    def at(self, share: float, d0: float) -> float:
+        """The probe depth `share` times d0, or the one measured for that multiple."""
+        return share * d0 if not self.depths or share not in self.depths else self.depths[share]
 
     @classmethod
     def of(cls, scene_d: dict, geometry: Geometry) -> "Scales":
@@ -92,7 +98,7 @@ def state(geometry: Geometry, point: int, theta: float, depth: float, vn=0.0, sl
     """The state that puts `point` at `depth` below the ground with normal velocity vn and slip
     (m/s), the body at angle theta spinning at om: vy = vn - om r_x, vx = slip + om r_y."""
     rx, ry = (float(a) for a in geometry.arm(point, theta))
-    return np.array([x, -ry - depth, theta, slip + om * ry, vn - om * rx, om])
+    return np.array([x, geometry.onset - ry - depth, theta, slip + om * ry, vn - om * rx, om])
 
 
 def flight(geometry: Geometry, scales: Scales) -> Probes:
@@ -166,8 +172,10 @@ def contact_states(geometry: Geometry, scales: Scales, friction: bool, rolling: 
         h_normal = min(scales.dt, 0.25 * DEPTH_SHARE_PER_STEP * scales.c_over_k)
     rows = []
     for share in NORMAL_DEPTHS:
-        d = share * d0
-        vmax = DEPTH_SHARE_PER_STEP * d / h_normal
+        d = scales.at(share, d0)
+        # within a step the point moves a fifth of its depth, or of the scene's (a depth measured
+        # from a far onset is no scale for the law's speed)
+        vmax = DEPTH_SHARE_PER_STEP * min(d, share * d0 if not scales.depths else share * scales.rest) / h_normal
         for v in (0.0, *(s * vmax for s in VELOCITY_SHARES), *(-s * vmax for s in VELOCITY_SHARES)):
             rows.append(("normal", state(geometry, i, theta, d, vn=v), h_normal, i))
     if friction:
@@ -175,7 +183,8 @@ def contact_states(geometry: Geometry, scales: Scales, friction: bool, rolling: 
         for share in FRICTION_DEPTHS:
             for s in slips:
                 for sign in (1.0, -1.0):
-                    rows.append(("friction", state(geometry, i, theta, share * d0, slip=sign * s), scales.dt, i))
+                    rows.append(("friction", state(geometry, i, theta, scales.at(share, d0), slip=sign * s),
+                                 scales.dt, i))
         if geometry.rotates:
             spin = 1.0 / scales.size
             for s in (scales.band, 0.3, 3.0):
@@ -187,7 +196,8 @@ def contact_states(geometry: Geometry, scales: Scales, friction: bool, rolling: 
         for share in FRICTION_DEPTHS:
             for om in spins:
                 for sign in (1.0, -1.0):
-                    rows.append(("rolling", state(geometry, i, theta, share * d0, om=sign * om), scales.dt, i))
+                    rows.append(("rolling", state(geometry, i, theta, scales.at(share, d0), om=sign * om),
+                                 scales.dt, i))
     if geometry.rotate:
         for j, angles in onset_angles(geometry):
             for th in (angles[0], angles[2]):

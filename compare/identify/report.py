@@ -77,6 +77,8 @@ def _effect_line(result: dict, effect: str) -> str:
     if not e.get("exercised", True) and e.get("law") is None:
         return f"  {effect:<11} not exercised: {e.get('why', '')}"
     unit = RESIDUAL_UNIT[effect]
+    if e.get("read") is False:
+        return f"  {effect:<11} {e['why']}{_match(result, effect)}"
     if e["law"] is not None:
         text = (f"{e['law']} ({params_text(e, effect)})" if params_text(e, effect) else e["law"])
         text += f"; {residual_text(e['residual'], e['relative'], unit)}"
@@ -86,6 +88,11 @@ def _effect_line(result: dict, effect: str) -> str:
         c = e.get("closest", {})
         text = (f"no family fits; closest {c.get('law')} ({params_text(c, effect)}), "
                 f"{residual_text(c.get('residual'), c.get('relative'), unit)}")
+    if e.get("onset") is not None and e.get("law") is None and e.get("onset_seen") is not None:
+        text += f"; a force acts up to {e['onset_seen']:.6g} m above the ground (the highest step of the run with one)"
+    elif e.get("onset") is not None:
+        text += (f"; the force begins {abs(e['onset']):.6g} m {'above' if e['onset'] > 0 else 'below'} the ground "
+                 f"at each contact point (depths measured from there)")
     if not e.get("exercised", True):
         text += f" (not exercised: {e.get('why', '')})"
     elif e.get("why"):
@@ -117,10 +124,13 @@ def _text(result: dict) -> str:
     else:
         c = it.get("closest", {})
         rel = c.get("residual")
-        off = (f"{rel:.3g} x round-off" if rel is not None and math.isfinite(rel)
-               else "its test not finite")
-        lines.append(f"  {'integrator':<11} none of the four ({it.get('why', '')}; closest {c.get('name')}, "
-                     f"{off}){_match(result, 'integrator')}")
+        off = (f"{rel:.3g} x round-off" if rel is not None and math.isfinite(rel) else "its test not finite")
+        if it.get("why", "").startswith("none:"):   # the measurements: beta, and whether the force depends on dt
+            lines.append(f"  {'integrator':<11} {it['why']}; closest in beta {c.get('name')}, its position update "
+                         f"{off}{_match(result, 'integrator')}")
+        else:
+            lines.append(f"  {'integrator':<11} none of the four ({it.get('why', '')}; closest {c.get('name')}, "
+                         f"{off}){_match(result, 'integrator')}")
     gr = result["gravity"]
     if gr.get("exercised") is False:
         lines.append(f"  {'gravity':<11} not exercised: {gr.get('why', '')}")

@@ -56,6 +56,15 @@ def effect_entry(effect: str, named: Fit | None, also: list[str], closest: Fit |
     return out
 
 
+def unread_entry(effect: str, largest: float, bound: float) -> dict:
+    """An effect whose probes saw nothing above round-off: no law, and the largest force seen."""
+    unit = "N m" if effect == "rolling" else "N"
+    return {"exercised": True, "read": False, "law": None, **{k: None for k in PARAMETERS[effect]},
+            "residual": None, "relative": None, "largest_force": largest, "scene_relative": None,
+            "why": f"the law could not be read: no probe saw a load above 100 x round-off (largest {effect} force "
+                   f"{largest:.2g} {unit}, round-off {bound:.2g} {unit})"}
+
+
 def gravity_entry(g: float, residual: float, relative: float, scene_relative: float) -> dict:
     """g (m/s^2) when the flight steps are a constant -g to round-off, else None and "closest"."""
     if relative <= 1.0:
@@ -68,7 +77,14 @@ def integrator_entry(name, closest: str, relative: float, tests: dict, why: str,
     """name (None: none of the four), residual: the largest of its tests over their round-off
     bounds (for RK4, the contact probes stepped by RK4 under the laws found too); `tests`: each
     integrator's law-free residual."""
-    out = {"name": name, "residual": relative, "why": why, "tests": tests}
+    from .integrators import NAMES
+    out = {"name": name, "residual": relative, "why": why, "tests": {k: tests.get(k) for k in NAMES if k in tests}}
+    if "beta" in tests:   # the measurements the name rests on (designed probes; a run: beta only)
+        out["beta"] = tests["beta"]
+        out["beta_uncertainty"] = tests.get("beta_uncertainty")
+        out["depends_on_dt"] = tests.get("depends_on_dt")
+    if "parts" in tests:   # each method's position-update test alone (what `closest` is chosen by)
+        out["position_tests"] = {k: v.get("position") for k, v in tests["parts"].items()}
     if name is None:
         out["closest"] = {"name": closest, "residual": relative}
     return out

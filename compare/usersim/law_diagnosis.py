@@ -69,6 +69,13 @@ def findings(result: dict, scene: Scene, declared: str) -> list[dict]:
                         "text": f"your {WORDS[effect]} is not read: its reading rests on {blocked[0]}"})
             continue
         e = result[effect]
+        if e.get("read") is False:   # the probes saw only round-off: nothing to say of the law
+            continue
+        if e.get("onset") is not None:   # no [contact] law holds an onset: no law to run under
+            text = (f"your {WORDS[effect]} begins {abs(e['onset']):.3g} m {'above' if e['onset'] > 0 else 'below'} "
+                    f"the ground, the scene's at its contact points")
+            out.append({"effect": effect, "law": None, "text": text})
+            continue
         if e.get("law") is not None:
             found = f"{e['law']} ({params_text(e, effect)})"
             text = f"your {WORDS[effect]} is {found}, the scene asks {asked[effect]}"
