@@ -60,7 +60,7 @@ class OnsetSearch:
         first force of a penalty law shows a few ulps deeper, inside POINT_ULPS)."""
         v1 = self.calls.one([0.0, y, theta, 0.0, self.lift, 0.0], self.h, f"onset at angle {theta:.6g} rad")[3:]
         free = self._free_fall(theta)
-        tol = TOUCH_ULPS * EPS * (np.abs(v1[1]) + np.abs(free[1]))
+        tol = TOUCH_ULPS * eps() * (np.abs(v1[1]) + np.abs(free[1]))
         return bool(np.any(np.abs(v1 - free) * np.array([1.0, 1.0, max(self.scales.size, 1e-3)]) > tol))
 
     def height(self, i: int, theta: float) -> float | None:
