@@ -12,6 +12,7 @@ import importlib
 
 _NAMES = {   # public name -> (module, attribute)
     "judge": ("compare.api.judge", "judge"),
+    "identify": ("compare.api.identify", "identify_scenes"),
     "Judgement": ("compare.api.judgement", "Judgement"),
     "SceneJudgement": ("compare.api.scene", "SceneJudgement"),
     "Check": ("compare.api.check", "Check"),
@@ -25,12 +26,10 @@ _NAMES = {   # public name -> (module, attribute)
     "SceneError": ("scene_types", "SceneError"),
 }
 
-__all__ = ["identify", *_NAMES]
+__all__ = list(_NAMES)
 
 
 def __getattr__(name: str):
-    if name == "identify":   # the package compare/identify, callable: compare.identify(sim, scenes)
-        return importlib.import_module("compare.identify")
     if name not in _NAMES:
         raise AttributeError(f"module 'compare' has no attribute {name!r}")
     module, attribute = _NAMES[name]
@@ -45,4 +44,4 @@ def __getattr__(name: str):
 
 
 def __dir__():
-    return sorted([*globals(), "identify", *_NAMES])
+    return sorted([*globals(), *_NAMES])

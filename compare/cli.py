@@ -23,7 +23,6 @@ import importlib.util
 import os
 import sys
 import tokenize
-from pathlib import Path
 
 COMMANDS = {   # python -m compare COMMAND, in the order --help lists them
     "list": "compare.commands.list_scenes",
@@ -45,36 +44,6 @@ COMMANDS = {   # python -m compare COMMAND, in the order --help lists them
 EXIT_OK, EXIT_TOLERANCE, EXIT_BAD_INPUT = 0, 1, 2
 EXIT_INTERRUPTED = 130   # Ctrl-C, as a shell reports a process stopped by SIGINT
 EXIT_BROKEN_PIPE = 141   # the reader of stdout went away (`| head`), as a shell reports SIGPIPE
-
-
-def output_folder(out: str) -> Path:
-    """The --out folder: a folder or a path still free, never an existing file, nor a path
-    under one (`somefile.txt/sub`), checked on every existing ancestor before anything is
-    written; the nearest existing one must be a folder this process can write into."""
-    from scene_types import BadInput
-
-    path = Path(out)
-    if path.exists() and not path.is_dir():
-        raise BadInput(f"{path}: --out: is a file (expected a folder)")
-    # Path.exists() is False under a file (NotADirectoryError), so walk up to what exists
-    for ancestor in [path, *path.parents]:
-        try:
-            ancestor.stat()
-        except FileNotFoundError:
-            continue
-        except NotADirectoryError:   # a file further up: keep walking to find it
-            continue
-        except OSError as exc:
-            raise BadInput(f"{path}: --out: {ancestor} cannot be read ({exc.strerror or exc}); "
-                           "expected a folder or a path that can be created") from None
-        if not ancestor.is_dir():
-            raise BadInput(f"{path}: --out: {ancestor} is a file, so no folder can be made under it "
-                           "(expected a folder or a path that can be created)")
-        if not os.access(ancestor, os.W_OK | os.X_OK):
-            raise BadInput(f"{path}: --out: {ancestor} is a folder this user cannot write into "
-                           "(expected a writable folder or a path that can be created)")
-        break
-    return path
 
 
 def summary(doc: str | None) -> str:

@@ -70,7 +70,7 @@ class Identification:
     @classmethod
     def from_result(cls, result: dict) -> Identification:
         """From compare.identify's result dict, made plain JSON as `identify --json` makes it."""
-        from ..identify.report import as_json
+        from ..identification.report import as_json
 
         data = json.loads(as_json(result))
         effects = {e: Effect.from_json(e, data.get(e)) for e in EFFECTS}

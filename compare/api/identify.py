@@ -11,7 +11,7 @@ def identify_scenes(sim, scenes=None, *, whole: bool = False) -> tuple[Identific
     compare.Process("COMMAND"). A scene the code does not do is an Identification with
     `skipped` (the reason) and no effects. Bad input, or a step that fails on a designed probe, raises
     compare.BadInput naming the function and the probe (identify's exit status 2)."""
-    from ..identify import identify
+    from ..identification import identify
     from ..scenarios import load_all
     from ..usersim import SceneSkipped, UserCodeError, UserFault
     from .judge import scene_specs

@@ -55,7 +55,7 @@ def judge(sim=None, scenes=None, *, law: str | None = None, whole: bool = False,
     writes (None: nothing is written; the work goes into a temporary folder, removed after).
     jobs: scenes at once (default every core); timeout: s per scene. Bad input raises
     compare.BadInput (or SceneError) naming what was wrong, before anything is written."""
-    from ..cli import output_folder
+    from ..files import output_folder
     from ..scenarios import load_all
     from ..usersim import preflight
     from .subject import simulator_of

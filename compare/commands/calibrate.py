@@ -22,7 +22,7 @@ import sys
 
 from scene_types import BadInput
 
-from ..cli import output_folder
+from ..files import output_folder
 from ..scenarios import load_all
 
 DEFAULT_FITTED = ("box_slide", "point_drop")

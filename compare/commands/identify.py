@@ -49,8 +49,8 @@ def _one_line(exc, scene: str = "") -> None:
 def main(args) -> int:
     from scene_types import BadInput
 
-    from ..identify import identify
-    from ..identify.report import as_json, text
+    from ..identification import identify
+    from ..identification.report import as_json, text
     from ..scenarios import load_all
     from ..usersim import SceneSkipped, UserCodeError, UserFault, load_simulator
 

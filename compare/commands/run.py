@@ -14,7 +14,8 @@ from __future__ import annotations
 import os
 import sys
 
-from ..cli import EXIT_INTERRUPTED, output_folder
+from ..cli import EXIT_INTERRUPTED
+from ..files import output_folder
 from ..scenarios import load_all
 
 

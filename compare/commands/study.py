@@ -31,7 +31,7 @@ import sys
 
 from scene_types import BadInput
 
-from ..cli import output_folder
+from ..files import output_folder
 
 DEFAULT_OUT = "reports/study"
 

@@ -21,7 +21,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..cli import output_folder
+from ..files import output_folder
 from ..scenarios import load_all
 
 

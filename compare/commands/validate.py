@@ -33,7 +33,7 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    from ..usersim.validate import validate
+    from ..run.validate import validate
 
     sim, scenes = args.sim, args.scenes
     if (args.trajectories or args.sim_process) and sim:  # then the first positional is a scene

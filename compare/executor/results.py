@@ -21,7 +21,7 @@ class Store:
             return None   # absent, or cut short by an interruption: computed again
 
     def save(self, key: str, result) -> None:
-        from ..report.atomic import finite_json, write_text_atomically
+        from ..files import finite_json, write_text_atomically
 
         self.folder.mkdir(parents=True, exist_ok=True)
         write_text_atomically(self.path(key), finite_json(result))

@@ -5,7 +5,7 @@
 
 The equations of reference.right_hand_side, written for arrays, each row on its own branch of
 every switch; every family of scene_types.laws. `Law` names the ways a hand-written simulator
-can deviate (compare/checks/mistakes.py replaces one field at a time). `scale` is the sum of
+can deviate (compare/diagnosis/mistakes.py replaces one field at a time). `scale` is the sum of
 the magnitudes of every term that enters an acceleration, what its round-off is proportional to.
 Derivation: docs/oracle-laws.md#the-force-law-and-its-round-off-scale.
 """

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from scene_types import csv_text, write_csv
 
-from .atomic import finite_json, temporary_folder, write_text_atomically
+from ..files import finite_json, temporary_folder, write_text_atomically
 
 from ..checks import metrics
 from ..store import cached
@@ -19,7 +19,7 @@ from . import plots
 from ..checks.law_difference import judged_law_words, law_lines
 from ..checks.step_check import first_over
 from ..checks.row import CheckRow
-from ..checks.scenario import Result, metrics_json, skipped_json
+from ..checks.result import Result, metrics_json, skipped_json
 from ..table import DASH, markdown, number
 
 
@@ -208,7 +208,7 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         ["source", f"`{scene.source}`; MuJoCo model: [model.xml](model.xml)"],
     ]).splitlines(), ""]
     if result.diagnosis:
-        from ..usersim import diagnosis_markdown
+        from ..diagnosis import diagnosis_markdown
         lines += ["## Diagnosis", "", diagnosis_markdown(result.diagnosis), ""]
     lines += ["## Trajectories", ""] + _image(figures, "states") + _image(figures, "path") + _image(figures, "snapshots")
     if figures.get("residuals"):

@@ -15,7 +15,7 @@ import os
 import shutil
 from pathlib import Path
 
-from .atomic import temporary_folder
+from ..files import temporary_folder
 
 
 def _old_report(out: Path) -> list[Path]:

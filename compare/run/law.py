@@ -16,7 +16,7 @@ def under_law(scenes, law: str, simulator, skipped: dict | None = None):
     if simulator is None:
         raise BadInput("--law identified: expected --sim MODULE:FUNCTION (a step function, or with --whole "
                        "a whole run) or --trajectories DIR, whose law `identify` can find")
-    from ..identify import NotIdentified, identified_contact, identify
+    from ..identification import NotIdentified, identified_contact, identify
     from ..usersim import SceneSkipped, UserCodeError, UserFault
     out = []
     for scene in scenes:

@@ -34,7 +34,7 @@ def verdict_line(row: dict) -> str:
     """The line `run` prints for a scenario that ran (its metrics.json): pass (with what was not
     judged), FAIL (each failed check's component and value), or not judged."""
     from ..checks.row import CheckRow
-    from ..checks.scenario import SHOWN
+    from ..checks.result import SHOWN
 
     from ..checks.law_difference import judged_law_words
 

@@ -27,7 +27,7 @@ def run_one(scene, out: str, simulator=None):
         from mujoco_models import to_mjcf
 
         from ..report import write_scenario, write_skipped
-        from ..checks.scenario import run_scenario
+        from .scenario import run_scenario
 
         from ..store import counts
 

@@ -15,7 +15,7 @@ def prepare_workers() -> None:
     prepare()   # joblib and the code's digest, once
     compare.report.prebuild_figures()   # each figure's axes and ticks, built once for every worker
     import compare.checks.attribution  # noqa: F401
-    import compare.checks.scenario  # noqa: F401
+    import compare.run.scenario  # noqa: F401
     import compare.checks.contact_check  # noqa: F401
     import compare.checks.dynamics_check  # noqa: F401
     import compare.checks.step_check  # noqa: F401

@@ -1,10 +1,10 @@
-"""A user's simulator under test: loading it (step function, whole run, CSV files), running
-it on a scene, and diagnosing where it departs from the seed's algorithm."""
+"""The subject: a user's simulator under test, loaded (step function, whole run, CSV files, a
+process in any language), called behind a guard, and run on a scene. The lowest layer that
+touches the user's code: it imports no check, no diagnosis and no report."""
 from .errors import SceneSkipped, UserCodeError, UserFault
 from .loader import StepFunction, TrajectoryFiles, UserRun, WholeFunction, for_run, from_args, load_simulator, preflight
-from .diagnosis import diagnosis, diagnosis_markdown, render_markdown
 from .run_user import run_user
 from .scene_dict import scene_dict
 
-__all__ = ["SceneSkipped", "StepFunction", "TrajectoryFiles", "UserCodeError", "UserFault", "UserRun", "WholeFunction", "diagnosis", "diagnosis_markdown", "for_run", "from_args",
-           "load_simulator", "preflight", "render_markdown", "run_user", "scene_dict"]
+__all__ = ["SceneSkipped", "StepFunction", "TrajectoryFiles", "UserCodeError", "UserFault", "UserRun", "WholeFunction",
+           "for_run", "from_args", "load_simulator", "preflight", "run_user", "scene_dict"]

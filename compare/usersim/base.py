@@ -112,12 +112,8 @@ class _Simulator:
         self._scene = scene
         return self._run(scene)
 
-    def diagnose(self, scene: Scene, trajectory, probe: bool = True, case=None, step_row=None) -> dict:
-        """diagnosis(self, scene, trajectory.states()): see compare/usersim/diagnosis.py.
-        probe False: the step is not called from chosen states (it keeps state between calls,
-        so an answer out of order would not be the one its run used): the trajectory alone.
-        step_row: the step check's row of this trajectory, when the caller has it."""
-        from .diagnosis import diagnosis
-        return diagnosis(self, scene, trajectory.states(), trajectory.meta.get("rounding"), case, probe, step_row)
+    def close(self) -> None:
+        """End whatever the simulator keeps running between calls (a process); a function keeps
+        nothing."""
 
 

@@ -267,14 +267,6 @@ class Process(StepFunction):
         finally:
             self.close()
 
-    def diagnose(self, *args, **kwargs) -> dict:
-        """The diagnosis (its probes continue the process the purity test started), then the
-        process is ended: nothing is left running once a scene is judged."""
-        try:
-            return super().diagnose(*args, **kwargs)
-        finally:
-            self.close()
-
     # -- the protocol --------------------------------------------------------------------------
 
     def _pipe(self):

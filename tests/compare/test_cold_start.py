@@ -13,8 +13,8 @@ import pytest
 from compare.tools.accuracy import cold_start
 from short_scene import short_scene
 from custom_sim import compile_cache
-from custom_sim.compile_cache import COMPILING_MESSAGE, is_cached, needs_compiling, warm_up
-from custom_sim.integrators import first_unhealthy, integrate_explicit, integrate_implicit
+from custom_sim.compile_cache import COMPILING_MESSAGE, needs_compiling, warm_up
+from custom_sim.integrators import integrate_explicit, integrate_implicit
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -12,7 +12,8 @@ import pytest
 from compare import store
 from compare.cli import main
 from compare.scenarios import load
-from compare.checks.scenario import metrics_json, run_scenario
+from compare.checks.result import metrics_json
+from compare.run.scenario import run_scenario
 
 
 @pytest.fixture
@@ -109,7 +110,7 @@ def test_a_users_rerun_computes_only_what_depends_on_their_simulator(cache_on, t
     import functools
     from pathlib import Path
 
-    from compare.checks import scenario
+    from compare.run import scenario
     from compare.run.outcome import run_one
     from compare.report import pages
     from compare.usersim import for_run

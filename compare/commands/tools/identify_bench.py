@@ -21,6 +21,6 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    from ...identify.benchmark import print_times
+    from ...identification.benchmark import print_times
 
     return print_times(args.sim, args.scenes, args.repeat, args.step_us)

@@ -28,7 +28,7 @@ import numpy as np  # noqa: E402
 
 from mujoco_models import MAPPINGS  # noqa: E402
 
-from ...report.atomic import finite_json, write_text_atomically  # noqa: E402
+from ...files import finite_json, write_text_atomically  # noqa: E402
 from ...table import markdown, number  # noqa: E402
 from .calibration import Calibration  # noqa: E402
 from .causes import causes, short  # noqa: E402
@@ -122,7 +122,7 @@ def error_plot(s, base: str, path: Path) -> str:
 
 def index_page(cal: Calibration, data: dict, figures: dict) -> str:
     r = cal.result
-    lines = [f"# Calibration of the MuJoCo twin's contact settings", "",
+    lines = ["# Calibration of the MuJoCo twin's contact settings", "",
              f"Fitted to custom_sim's trajectories of: {', '.join(s.scene.name for s in cal.scenes if not s.held_out)}; "
              f"held out (never seen by the fit): {', '.join(s.scene.name for s in cal.scenes if s.held_out) or 'none'}. "
              f"Starting point and the settings not fitted: the **{cal.base}** mapping. Optimiser: "

@@ -4,7 +4,7 @@ Each mistake is one exact text replacement in one file of custom_sim (every occu
 line the force law and its Jacobian share changes in both). `python -m compare tools mutation` puts
 each into a copy of custom_sim and runs the default `run` on it: the harness earns trust only
 if every one of them makes `run` exit 1, named by the check that caught it. A mistake the
-diagnosis also knows (compare/checks/mistakes.py) has the same name and seed line there.
+diagnosis also knows (compare/diagnosis/mistakes.py) has the same name and seed line there.
 """
 from __future__ import annotations
 

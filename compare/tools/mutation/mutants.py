@@ -18,7 +18,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from ...report.atomic import finite_json
+from ...files import finite_json
 from ...table import DASH, markdown
 from .catalogue import MISTAKES, Mistake
 

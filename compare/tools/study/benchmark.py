@@ -23,7 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from ...report.atomic import finite_json
+from ...files import finite_json
 
 RUNS = 16
 REPEATS = 3

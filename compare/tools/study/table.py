@@ -9,7 +9,7 @@ import csv
 import io
 from pathlib import Path
 
-from ...report.atomic import write_text_atomically
+from ...files import write_text_atomically
 
 # After the varied fields, in this order. The first eight are the table's fixed contract;
 # the rest are added after them (`simulator`: custom_sim, or yours with --sim).

@@ -8,7 +8,7 @@ import os
 import shutil
 from pathlib import Path
 
-from ...report.atomic import temporary_folder
+from ...files import temporary_folder
 from .cheapest import cheapest_table
 from .figure import plot_scene
 from .page import write_index

@@ -6,7 +6,7 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from ...report.atomic import finite_json
+from ...files import finite_json
 from ..accuracy.orders import orders
 from .answer import answer
 from .yours import yours_lines

@@ -11,7 +11,8 @@ import math
 import pytest
 
 from compare.scenarios import builtin_paths, load
-from compare.checks.scenario import metrics_json, run_scenario
+from compare.checks.result import metrics_json
+from compare.run.scenario import run_scenario
 from compare.checks.contact_check import MOTION_SHARE
 
 

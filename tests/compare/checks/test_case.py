@@ -11,7 +11,7 @@ import mujoco_models.rigid_body  # noqa: F401
 from compare.scenarios import load
 from compare.checks import case as case_module
 from compare.checks.case import Case
-from compare.checks.scenario import run_scenario
+from compare.run.scenario import run_scenario
 
 ORACLE = sys.modules["compare.oracle.rigid_body"]
 TWIN_BODY = sys.modules["mujoco_models.rigid_body"]

@@ -21,7 +21,7 @@ from custom_sim.chatter import WATCH_COLUMNS
 from custom_sim.integrators import INTEGRATORS, integrate
 from custom_sim.model import build_model, initial_state
 from custom_sim.runner import blowup_guard
-from mujoco_models.run import FULL_STATE, setup_rollout
+from mujoco_models.run import setup_rollout
 from tests.conftest import make_scene
 
 # MuJoCo's force and f* - e agree to round-off of the force sums (1e-16 relative per term)
@@ -201,7 +201,7 @@ def test_a_users_code_runs_again_only_for_a_variant_that_differs_from_the_scene(
 
     import compare.usersim as usersim
     from compare.checks.case import Case
-    from compare.checks.scenario import contact_row
+    from compare.run.scenario import contact_row
 
     scene = dataclasses.replace(load(name), duration=0.6)
     assert (contact_scene(scene) == scene) == (runs == 0)
@@ -243,7 +243,7 @@ def test_a_step_that_applies_friction_with_friction_off_is_told_so(tmp_path):
     first touching step by mu Fn tanh(alpha vx) dt / m."""
     import compare.usersim as usersim
     from compare.checks.case import Case
-    from compare.checks.scenario import contact_row
+    from compare.run.scenario import contact_row
     from compare.run.lines import failure_text
 
     path = tmp_path / "friction_always.py"

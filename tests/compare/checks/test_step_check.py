@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 import custom_sim
-from compare.oracle.reference import Equations
 from compare.scenarios import load, load_builtins
 from compare.oracle import one_step
 from compare.checks.step_check import check_step

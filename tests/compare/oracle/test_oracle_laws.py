@@ -17,7 +17,7 @@ from compare.oracle.force_law import EPS, Law, accelerations
 from compare.oracle.reference import (Equations, ReferenceError, cached_reference, energy, initial_mode,
                                       right_hand_side, solve_reference)
 from compare.scenarios import load, load_builtins
-from compare.checks.mistakes import BY_NAME, applicable
+from compare.diagnosis.mistakes import BY_NAME, applicable
 from compare.oracle.one_step import FORCE_ULPS, METHODS, NO_UNIQUE_STEP, one_step, undecided
 from scene_types import parse_scene
 

@@ -12,7 +12,6 @@ import dataclasses
 import numpy as np
 import pytest
 
-from compare.oracle import reference
 from compare.oracle.reference import (REFERENCE_ATOL, REFERENCE_RTOL, Equations, cached_reference,
                                initial_mode, right_hand_side, solve_reference)
 from compare.scenarios import load, load_builtins

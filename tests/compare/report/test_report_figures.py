@@ -7,7 +7,6 @@ from __future__ import annotations
 import numpy as np
 
 from compare.report.plots import MAX_POINTS, _envelope
-from compare.checks.row import CheckRow
 from compare.checks.step_check import step_trace
 
 

@@ -12,7 +12,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from compare.report import atomic, pages
+from compare import files as atomic
+from compare.report import pages
 
 
 @pytest.fixture(params=[0o022, 0o027], ids=["umask022", "umask027"])

@@ -34,7 +34,7 @@ def test_each_mistake_changes_custom_sim(mistake, tmp_path):
 def test_a_mistake_both_catalogues_know_has_one_name():
     """The mutation test and the diagnosis name a shared mistake alike: the same name, the same
     seed line (a name reused for another mistake would show as another seed line)."""
-    from compare.checks.mistakes import CATALOGUE
+    from compare.diagnosis.mistakes import CATALOGUE
     diagnosed = {m.name: m for m in CATALOGUE}
     shared = [m for m in MISTAKES if m.name in diagnosed]
     assert len(shared) >= 9   # the inertias, gravity, friction's slip, rotation, integrator, contact height

@@ -10,7 +10,8 @@ from pathlib import Path
 import pytest
 
 from compare.scenarios import load
-from compare.usersim import diagnosis, load_simulator, run_user
+from compare.diagnosis import diagnosis
+from compare.usersim import load_simulator, run_user
 
 OUTSIDER = Path(__file__).resolve().parents[2] / "outsiders" / "complex_plane.py"
 

@@ -105,7 +105,7 @@ def test_not_implemented_error_skips_with_its_message_and_the_step_when_not_the_
 def test_a_skipped_scene_runs_nothing_else(tmp_path):
     """NotImplementedError at the first step: the scene is skipped after that one call (no
     contact variant, no second call to see whether the step keeps state, no diagnosis probe)."""
-    from compare.checks.scenario import run_scenario
+    from compare.run.scenario import run_scenario
     calls = tmp_path / "calls"
     spec = module(tmp_path, f"""
         def step(z, scene, dt):
@@ -121,7 +121,7 @@ def test_a_skipped_scene_runs_nothing_else(tmp_path):
 def test_the_contact_variant_a_step_does_not_do_is_not_judged_and_the_scene_still_is(tmp_path):
     """The contact check's variant (friction off, the linear law) raising NotImplementedError
     leaves that check not judged; the scene itself is judged, not skipped."""
-    from compare.checks.scenario import run_scenario
+    from compare.run.scenario import run_scenario
     spec = module(tmp_path, f"""
         import importlib.util
         spec = importlib.util.spec_from_file_location("box_only_class", {CLASS_SIM[:-5]!r})

@@ -72,7 +72,7 @@ def test_a_fail_in_a_velocity_component_names_the_component_and_value():
     within tolerance, so every place that shows the row names the component, its value and unit."""
     from compare.checks.step_check import check_step, first_failure, largest_residual
     from compare.report.pages import _step_failure
-    from compare.usersim.validate import _cell
+    from compare.run.validate import _cell
     from custom_sim import simulate
 
     scene = dataclasses.replace(load("box_slide"), duration=0.01)
@@ -121,7 +121,7 @@ def test_a_misspelled_integrator_is_bad_input_naming_the_closest(tmp_path, capsy
 
 
 def test_a_declared_unknown_integrator_is_judged_where_no_integrator_is_needed(tmp_path, short):
-    from compare.checks.scenario import run_scenario
+    from compare.run.scenario import run_scenario
 
     sim = load_simulator(write(tmp_path, 'INTEGRATOR = "other:ode23"\n') + ":step")
     result = run_scenario(short, sim)
@@ -136,7 +136,7 @@ def test_checks_follow_the_integrator_the_simulator_declares():
     """An RK4 simulator on a semi-implicit Euler scene: `contact` held the RK4 run to the
     semi-implicit Euler run's integrator term, and failed it (point_drop: 6.2e-4 m against
     1.6e-4 m)."""
-    from compare.checks.scenario import run_scenario
+    from compare.run.scenario import run_scenario
 
     scene = dataclasses.replace(load("point_drop"), duration=0.6)
     sim = load_simulator(str(ROOT / "tests" / "outsiders" / "oo_rk4.py") + ":step")
@@ -444,7 +444,7 @@ def test_a_fault_in_one_scene_is_its_row_and_the_report_is_replaced_whole(tmp_pa
 # --- 4. variants the harness makes up are its own business ------------------------------------
 
 def test_a_step_refusing_the_contact_variant_leaves_that_check_not_judged(tmp_path):
-    from compare.checks.scenario import run_scenario
+    from compare.run.scenario import run_scenario
 
     spec = write(tmp_path, """
         def step(z, scene, dt):
@@ -483,7 +483,7 @@ def test_a_return_that_is_not_six_real_numbers_is_bad_input(tmp_path, short, cas
 
 
 def test_float32_is_accepted_with_a_warning_on_the_page(tmp_path, short):
-    from compare.checks.scenario import run_scenario
+    from compare.run.scenario import run_scenario
 
     spec = write(tmp_path, "def step(z, scene, dt):\n    return np.asarray(_seed_step(z, scene, dt), dtype=np.float32)\n")
     with pytest.warns(UserWarning, match="float32"):

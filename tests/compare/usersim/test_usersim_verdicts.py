@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from compare.scenarios import builtin_names, load
-from compare.usersim import diagnosis, load_simulator, render_markdown, run_user
+from compare.diagnosis import diagnosis, render_markdown
+from compare.usersim import load_simulator, run_user
 from compare.checks.identical_check import check_identical
 from compare.oracle.one_step import Rounding
 from compare.checks.roundoff import roundoff_envelope
@@ -201,7 +202,7 @@ def test_an_unknown_integrator_is_not_diagnosed_but_said(tmp_path):
 def test_an_unknown_integrator_is_still_compared(tmp_path):
     """Named 'other:verlet', the seed's step is held to nothing it cannot be (no step, no identical
     bound) but still shown against the reference, the dynamics twin (RK4) and MuJoCo."""
-    from compare.checks.scenario import run_scenario
+    from compare.run.scenario import run_scenario
     path = tmp_path / "verlet.py"
     path.write_text(f"import sys\nsys.path.insert(0, {str(ROOT / 'examples')!r})\nfrom seed_sim import step\n"
                     "INTEGRATOR = 'other:verlet'\n")

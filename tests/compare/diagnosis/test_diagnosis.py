@@ -19,9 +19,10 @@ import pytest
 
 from compare.oracle.reference import Equations
 from compare.scenarios import load
-from compare.usersim import diagnosis, load_simulator, render_markdown, run_user
-from compare.usersim.moments import pick_moments
-from compare.checks import mistakes
+from compare.diagnosis import diagnosis, render_markdown
+from compare.usersim import load_simulator, run_user
+from compare.diagnosis.moments import pick_moments
+from compare.diagnosis import mistakes
 from custom_sim import simulate
 
 # A point mass stepped with semi-implicit Euler, written as an outsider would (the seed's

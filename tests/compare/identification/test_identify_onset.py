@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from compare.identify import identify_step
-from compare.identify.report import text
+from compare.identification import identify_step
+from compare.identification.report import text
 from compare.scenarios import load
 
 OUTSIDERS = Path(__file__).resolve().parents[2] / "outsiders"
@@ -42,7 +42,7 @@ def line(out: dict, head: str) -> str:
 
 def test_substeps_are_measured_as_their_position_share_not_named_a_method():
     """8 substeps moving positions first, the force held over the frame: beta = (8 - 1) / 16
-    exactly (PHYSICS.md), the force read at the start of the step (no dependence on dt). No
+    exactly (docs/identify.md: (N - 1)/(2N)), the force read at the start of the step (no dependence on dt). No
     method has that beta: none is named, and the line says what beta is."""
     module = outsider("substep_margin")
     out = identify_step(Direct(module.step), load("point_drop"))
@@ -161,7 +161,7 @@ def test_a_run_that_lands_on_a_field_reads_g_from_its_fall_and_no_scene_law():
     steps on the field are contact steps whatever the geometry says (no scene law echoed)."""
     import dataclasses
 
-    from compare.identify import identify_run
+    from compare.identification import identify_run
     scene = dataclasses.replace(load("point_drop"), duration=0.6)
     out = identify_run(_run(outsider("exp_field"), scene), scene)
     assert abs(out["gravity"]["g"] - scene.g) <= 1e-9 * scene.g
@@ -176,7 +176,7 @@ def test_a_run_floating_on_a_field_throughout_has_no_gravity_and_no_echo():
     constant g'), and the normal force is no family's (never the scene's k and c with 'residual 0')."""
     import dataclasses
 
-    from compare.identify import identify_run
+    from compare.identification import identify_run
     base = load("point_drop")
     scene = dataclasses.replace(base, duration=0.3, initial=dataclasses.replace(base.initial, position=(0.0, 0.08)))
     out = identify_run(_run(outsider("exp_field"), scene), scene)
@@ -192,7 +192,7 @@ def test_a_run_resting_on_a_margin_has_a_constant_g_or_none():
     fitted beside the spring: the scene's k and c, 3 mm up."""
     import dataclasses
 
-    from compare.identify import identify_run
+    from compare.identification import identify_run
     module = outsider("substep_margin")
     scene = dataclasses.replace(load("box_slide"), duration=0.3)
     out = identify_run(_run(module, scene), scene)
@@ -207,7 +207,7 @@ def test_an_onset_is_no_law_to_run_under():
     that puts the force 3 mm lower than the code does."""
     import pytest
 
-    from compare.identify import NotIdentified, identified_contact
+    from compare.identification import NotIdentified, identified_contact
     scene = load("point_drop")
     out = identify_step(Direct(outsider("substep_margin").step), scene)
     with pytest.raises(NotIdentified, match="the force begins 0.003 m above the ground"):

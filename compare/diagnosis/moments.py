@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compare.oracle.reference import Equations
-from compare.checks.mistakes import (RESTING_LOAD, carries_weight, contact_loads, damper_leaving, least_acting_force,
+from .mistakes import (RESTING_LOAD, carries_weight, contact_loads, damper_leaving, least_acting_force,
                                       rebound_score)
 from custom_sim import Scene
 

@@ -1,4 +1,5 @@
-"""One scenario: run the simulator under test, judge every check, measure every difference.
+"""One scenario: run the simulator under test, judge every check, measure every difference,
+and diagnose a user's run (the walk over compare/checks; its Result is compare/checks/result.py).
 
 The checks (one CheckRow each, row.py; every check module is compare/checks/*_check.py):
 
@@ -18,7 +19,6 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -26,73 +26,19 @@ from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Trajectory, stabl
 from scene_types.integrators import MUJOCO_TWIN
 from scene_types.schema import SOLREF_MAPPINGS
 
-from . import events, metrics
 from ..store import cached
-from .case import Case
-from .native_check import native_row
-from .row import CheckRow
+from ..checks import metrics
+from ..checks.case import Case
+from ..checks.native_check import native_row
+from ..checks.row import CheckRow
+from ..checks.result import CUSTOM, Result
+from ..diagnosis import diagnose
 
-CUSTOM = "custom_sim"
-SHOWN = ("reference", "native")    # checks that are shown, not judged, by design
 # damping families the contact check's variant (friction off, the linear law) can stand for: a
 # user's code for compression or linear follows the scene's damping_law; one written for
 # Hunt-Crossley or the unclamped law need not
 LINEAR_KIN = ("compression", "linear")
 
-
-@dataclass
-class Result:
-    scene: Scene
-    under_test: Trajectory | None = None              # the simulator under test
-    custom: Trajectory | None = None                  # custom_sim with the scene's integrator
-    runs: dict = field(default_factory=dict)          # custom_sim by integrator: Trajectory or the failure text
-    mujoco: Trajectory | None = None                  # native twin, the scene's own mapping
-    by_mapping: dict = field(default_factory=dict)    # mapping -> metrics (and drift)
-    metrics: dict = field(default_factory=dict)       # under test against the native twin
-    checks: list[CheckRow] = field(default_factory=list)   # one row per check
-    attribution: list = field(default_factory=list)   # the measured ladder of causes
-    residuals: dict = field(default_factory=dict)     # per-step residuals of the step checks (plots)
-    reference: np.ndarray | None = None               # converged reference states (steps + 1, 6), for the plots
-    warnings: list = field(default_factory=list)      # e.g. dt outside the theory's limit
-    diagnosis: dict | None = None                     # a user's simulator: which mistake explains it
-    simulator: str = CUSTOM                           # name of the simulator under test
-    error: str | None = None                          # why no verdict could be reached
-    unstable: bool = False                            # the error is a divergence or chatter
-    error_details: str = ""                           # the user's own traceback, where their code raised
-    skipped: str | None = None                        # why the user's code does not do this scene (never judged)
-    keeps_state: str | None = None                    # a step function whose answer depends on earlier calls
-    law_differences: list = field(default_factory=list)  # `run --law`: each effect that differs from the scene's
-    balances: dict = field(default_factory=dict)      # simulator -> compare.energy.Balance (E, W, R)
-    case: Case | None = None                          # the scene and the runs its checks shared
-    stable_dt: float = float("inf")                   # s, the theory's stable step for the scene's integrator
-    stable_dt_reason: str = ""                        # what sets it
-
-    @property
-    def judged(self) -> list[CheckRow]:
-        return [c for c in self.checks if c.passed is not None]
-
-    @property
-    def failed(self) -> list[CheckRow]:
-        return [c for c in self.checks if c.passed is False]
-
-    @property
-    def passed(self) -> bool:
-        """Every judged check passed, and at least one was judged."""
-        return self.error is None and not self.failed and bool(self.judged)
-
-    @property
-    def not_judged(self) -> list[CheckRow]:
-        return [c for c in self.checks if c.passed is None and c.name not in SHOWN]
-
-    @property
-    def status(self) -> str:
-        if self.skipped:
-            return "skipped"
-        if self.error:
-            return "unstable" if self.unstable else "error"
-        if not self.judged:
-            return "not judged"
-        return "pass" if self.passed else "FAIL"
 
 
 def custom_runs(case: Case) -> dict:
@@ -152,12 +98,12 @@ def _run(result: Result, case: Case, simulator) -> None:
     result.checks += energy_column_rows(result)
     result.attribution = attribution_ladder(case, result.mujoco)
     if scene.scene_contact is not None:
-        from .law_difference import law_differences
+        from ..checks.law_difference import law_differences
         result.law_differences = law_differences(scene, result.under_test.t, result.under_test.states())
     if user:
         tested = result.under_test
         step_row = next((c for c in result.checks if c.name == "step" and c.integrator == tested.integrator), None)
-        result.diagnosis = simulator.diagnose(scene, tested, probe=result.keeps_state is None, case=case,
+        result.diagnosis = diagnose(simulator, scene, tested, probe=result.keeps_state is None, case=case,
                                               step_row=step_row)
 
 
@@ -186,7 +132,7 @@ def runs_under_test(result: Result, case: Case, simulator) -> dict:
 
 def identical_row(case: Case, run: Trajectory) -> CheckRow:
     """Check identical: the user's run against custom_sim's, same integrator and dt."""
-    from .identical_check import check_identical
+    from ..checks.identical_check import check_identical
     scene = case.scene
     return check_identical(scene, run.states(), run.integrator, scene.dt, run.meta.get("rounding"), case=case)
 
@@ -194,7 +140,7 @@ def identical_row(case: Case, run: Trajectory) -> CheckRow:
 def step_rows(result: Result, case: Case, tested: dict) -> list[CheckRow]:
     """Check step, for each run under test (its residuals per component and their round-off
     kept for the plots as a StepTrace, in result.residuals, not in the row)."""
-    from .step_check import check_step, step_trace
+    from ..checks.step_check import check_step, step_trace
 
     scene, rows = case.scene, []
     for name, run in tested.items():
@@ -213,7 +159,7 @@ def step_rows(result: Result, case: Case, tested: dict) -> list[CheckRow]:
 def dynamics_rows(scene: Scene, tested: dict, user_run: Trajectory | None) -> list[CheckRow]:
     """Check dynamics, for each run under test whose integrator MuJoCo has; an integrator the
     harness does not know is shown beside MuJoCo's RK4."""
-    from .dynamics_check import check_dynamics
+    from ..checks.dynamics_check import check_dynamics
 
     rows = []
     for name in MUJOCO_TWIN:
@@ -250,7 +196,7 @@ def native_twins(result: Result, case: Case) -> None:
 
 def attribution_ladder(case: Case, native: Trajectory) -> list[dict]:
     """Why custom_sim and MuJoCo's own contact differ, cause by cause (attribution.py)."""
-    from .attribution import attribute
+    from ..checks.attribution import attribute
     scene = case.scene
     return attribute(scene, native if scene.mujoco.solref == "penalty" else None, case=case)
 
@@ -328,7 +274,7 @@ def energy_column_rows(result: Result) -> list[CheckRow]:
 def beside_rk4_dynamics(scene: Scene, run: Trajectory) -> CheckRow:
     """An integrator the harness does not know, beside MuJoCo's RK4 under the same contact law
     at the same step: shown, not judged (no round-off bound holds between two methods)."""
-    from .dynamics_check import check_dynamics
+    from ..checks.dynamics_check import check_dynamics
 
     row = check_dynamics(scene, run.states(), "rk4", scene.dt, run.meta.get("rounding"))
     return dataclasses.replace(
@@ -343,7 +289,7 @@ def contact_row(case: Case, simulator, under_test: Trajectory | None = None) -> 
     variant, which the harness made up, unless the scene is that variant already (its run
     under_test is then the variant's); where it cannot run it (precomputed trajectories) or
     refuses it (raises, fails), the check is not judged, with the user's message; the rest stand."""
-    from .contact_check import check_contact, contact_scene, not_judged
+    from ..checks.contact_check import check_contact, contact_scene, not_judged
 
     scene = case.scene
     if simulator is None:
@@ -376,7 +322,7 @@ def contact_row(case: Case, simulator, under_test: Trajectory | None = None) -> 
 def _told_applied(row: CheckRow, variant: Scene, states) -> CheckRow:
     """The contact row, told where the user's run of the friction-off variant changed vx (a
     horizontal force that variant does not have: friction applied though it is off)."""
-    from .contact_check import horizontal_force
+    from ..checks.contact_check import horizontal_force
 
     applied = horizontal_force(variant, states)
     if applied is None:
@@ -436,83 +382,3 @@ def stability(scene: Scene) -> tuple[list[str], float, str]:
 
     limit, line = stable_step(scene), warning(scene)
     return ([line] if line else []), float(limit), getattr(limit, "reason", "")
-
-
-def metrics_json(result: Result) -> dict:
-    """metrics.json: the keys docs/report-files.md promises, then ours."""
-    from ..energy import metrics_block
-
-    scene, tested, twin = result.scene, result.under_test, result.mujoco
-    m = result.metrics
-    limit = result.stable_dt
-    contact = next((c for c in result.checks if c.name == "contact"), None)
-    return {
-        "name": scene.name,
-        "integrator": scene.integrator,
-        "dt": scene.dt,
-        "steps": scene.steps,
-        "position_error_max": m["position_error_max"],
-        "position_error_rms": m["position_error_rms"],
-        "angle_error_max": m["angle_error_max"],
-        "energy_drift_custom": metrics.energy_drift(tested),
-        "energy_drift_mujoco": metrics.energy_drift(twin),
-        "tolerance": {c.label: {"position": c.tolerance_position, "angle": c.tolerance_angle, "reason": c.reason}
-                      for c in result.checks},
-        "pass": result.passed,
-        "wall_time_custom": tested.wall_time,
-        "wall_time_mujoco": twin.wall_time,
-        "checks": [c.to_json() for c in result.checks],
-        # ours
-        "simulator": result.simulator,
-        "integrator_under_test": tested.integrator,
-        "status": result.status,
-        "not_judged": [c.label for c in result.not_judged],
-        "failed_checks": [c.label for c in result.failed],
-        "warnings": result.warnings,
-        "description": scene.description,
-        "shape": scene.body.shape,
-        "effects": list(scene.effects),
-        "velocity_error_max": m["velocity_error_max"],
-        "angular_velocity_error_max": m["angular_velocity_error_max"],
-        "position_error_final": m["position_error_final"],
-        "time_of_position_error_max": m["time_of_position_error_max"],
-        "energy_initial": float(tested.energy[0]),
-        "force_evals_custom": result.custom.force_evals,
-        "newton_iterations_custom": result.custom.newton_iterations,
-        "stable_dt_theory": None if limit == float("inf") else float(limit),
-        "stable_dt_reason": result.stable_dt_reason,
-        "dt_within_stability_limit": not result.warnings,
-        "events_custom": events.events(scene, tested),
-        "events_mujoco": events.events(scene, twin),
-        "mujoco": dict(twin.meta),
-        "mujoco_integrator": twin.integrator,
-        "mujoco_dt": twin.dt,
-        "mappings": result.by_mapping,
-        "attribution": result.attribution,
-        "contact_check": None if contact is None else contact.to_json(),
-        "diagnosis": result.diagnosis,
-        "law": law_json(result),
-        "energy_balance": {name: {**metrics_block(b), "rule": b.rule} for name, b in result.balances.items()},
-    }
-
-
-def skipped_json(result: Result) -> dict:
-    """metrics.json of a scene the user's code skipped: what the scene is, the status and the
-    reason; no check (none was judged, nothing ran)."""
-    scene = result.scene
-    return {"name": scene.name, "integrator": scene.integrator, "dt": scene.dt, "steps": scene.steps,
-            "status": "skipped", "skipped": result.skipped, "pass": None, "checks": [],
-            "simulator": result.simulator, "description": scene.description, "shape": scene.body.shape,
-            "effects": list(scene.effects), "law": {"from": scene.law_from or "scene",
-                                                    "judged": dataclasses.asdict(scene.contact)}}
-
-
-def law_json(result: Result) -> dict:
-    """The contact law the checks used, where it came from, and (under `run --law`) the scene
-    file's own law and each effect that differs."""
-    scene = result.scene
-    out = {"from": scene.law_from or "scene", "judged": dataclasses.asdict(scene.contact)}
-    if scene.scene_contact is not None:
-        out["scene"] = dataclasses.asdict(scene.scene_contact)
-        out["differences"] = result.law_differences
-    return out

@@ -5,7 +5,7 @@ from __future__ import annotations
 from scene_types import Scene
 from scene_types.laws import effect_texts
 
-from ..identify.report import params_text
+from ..identification.report import params_text
 
 FIELD = {"normal": "damping_law", "friction": "friction_law", "rolling": "roll_law"}
 # What each effect's reading rests on (identify reads the normal force and friction from the
@@ -21,8 +21,8 @@ def law_findings(simulator, scene: Scene, states, rounding=None, probe: bool = T
     """[{effect, law, text}] for each effect whose identified law differs from the scene's: from
     designed calls of a step function (probe), else by regression over the run's states. Empty
     when identification itself fails (the user's code raising there is the run's own story)."""
-    from ..identify import identify_run, identify_step
-    from .errors import UserCodeError, UserFault
+    from ..identification import identify_run, identify_step
+    from ..usersim.errors import UserCodeError, UserFault
 
     try:
         if probe and getattr(simulator, "kind", "") == "step":

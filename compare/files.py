@@ -1,4 +1,5 @@
-"""Writing report files in one step, with the permissions the user's umask gives, and JSON
+"""Where output goes and how it is written: the --out folder checked before anything is
+written, report files written in one step, with the permissions the user's umask gives, and JSON
 that never holds NaN or infinity.
 
 tempfile.mkstemp and mkdtemp create their file 0600 and their folder 0700 whatever the umask
@@ -10,6 +11,7 @@ would have given (0644 and 0755 at umask 022) before it is renamed into place.
     temporary_folder(parent, prefix)        a hidden folder beside its final place, to os.replace
     finite_json(data, **json_dumps_kw)      JSON text: NaN and +-inf become null, listed in
                                             data["non_finite"] (for a dict) so nothing is silent
+    output_folder(out)                      the --out folder, checked before anything is written
 """
 from __future__ import annotations
 
@@ -94,3 +96,33 @@ def finite_json(data, **dumps_kw) -> str:
     if found and isinstance(clean, dict):
         clean[NON_FINITE_KEY] = found
     return json.dumps(clean, allow_nan=False, **dumps_kw)
+
+
+def output_folder(out: str) -> Path:
+    """The --out folder: a folder or a path still free, never an existing file, nor a path
+    under one (`somefile.txt/sub`), checked on every existing ancestor before anything is
+    written; the nearest existing one must be a folder this process can write into."""
+    from scene_types import BadInput
+
+    path = Path(out)
+    if path.exists() and not path.is_dir():
+        raise BadInput(f"{path}: --out: is a file (expected a folder)")
+    # Path.exists() is False under a file (NotADirectoryError), so walk up to what exists
+    for ancestor in [path, *path.parents]:
+        try:
+            ancestor.stat()
+        except FileNotFoundError:
+            continue
+        except NotADirectoryError:   # a file further up: keep walking to find it
+            continue
+        except OSError as exc:
+            raise BadInput(f"{path}: --out: {ancestor} cannot be read ({exc.strerror or exc}); "
+                           "expected a folder or a path that can be created") from None
+        if not ancestor.is_dir():
+            raise BadInput(f"{path}: --out: {ancestor} is a file, so no folder can be made under it "
+                           "(expected a folder or a path that can be created)")
+        if not os.access(ancestor, os.W_OK | os.X_OK):
+            raise BadInput(f"{path}: --out: {ancestor} is a folder this user cannot write into "
+                           "(expected a writable folder or a path that can be created)")
+        break
+    return path

@@ -1,7 +1,4 @@
 """Which contact law a user's simulator implements: each effect's family and parameters, or none."""
-import sys
-import types
-
 from .contact import NotIdentified, identified_contact, identified_scene
 from .from_step import identify_step
 from .whole_run import identify_run
@@ -22,15 +19,3 @@ def identify(simulator, scene) -> dict:
     run = simulator.run(scene)
     return identify_run(run.states, scene, run.rounding, simulator.kind)
 
-
-class _CallablePackage(types.ModuleType):
-    """`compare.identify` is this package and, called, the public API's function:
-    compare.identify(sim, scenes=None, *, whole=False) -> one Identification per scene
-    (compare/api/identify.py). A package, so that `import compare.identify.x` keeps working."""
-
-    def __call__(self, sim, scenes=None, *, whole: bool = False):
-        from ..api.identify import identify_scenes
-        return identify_scenes(sim, scenes, whole=whole)
-
-
-sys.modules[__name__].__class__ = _CallablePackage

@@ -33,8 +33,8 @@ from compare.oracle.force_law import (SEED_LAW, Law, arms, contact_state, fricti
 from compare.oracle.reference import Equations
 
 from ..oracle.one_step import METHODS, one_step
-from .row import CheckRow
-from .step_check import COMPONENTS, UNIT_OF, check_step, first_failure, largest_residual, phase, step_residuals
+from ..checks.row import CheckRow
+from ..checks.step_check import COMPONENTS, UNIT_OF, check_step, first_failure, largest_residual, phase, step_residuals
 
 # Steps of a failing trajectory a variant is screened on before the whole trajectory is
 # stepped with it: the correct step's first failures (where a mistake shows) and a spread.

@@ -10,7 +10,7 @@ import pytest
 from compare.oracle.force_law import contact_state
 from compare.oracle.reference import Equations
 from compare.scenarios import load
-from compare.checks.mistakes import (BY_NAME, CATALOGUE, applicable, combine, diagnose,
+from compare.diagnosis.mistakes import (BY_NAME, CATALOGUE, applicable, combine, diagnose,
                                       diagnose_step, pick_moments)
 from custom_sim import simulate
 

@@ -10,7 +10,7 @@ import re
 import pytest
 
 from compare.cli import main
-from compare.identify import identify_step
+from compare.identification import identify_step
 from compare.scenarios import load
 from test_identify import PARAMETER_RTOL, Direct, custom_step
 

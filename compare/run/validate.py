@@ -32,10 +32,11 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
     from ..scenarios import load_all
     from ..checks.identical_check import check_identical
     from ..checks.step_check import check_step
-    from . import load_simulator, render_markdown, run_user
-    from .purity import keeps_state
+    from ..diagnosis import diagnose, render_markdown
+    from ..usersim import load_simulator, run_user
+    from ..usersim.purity import keeps_state
 
-    from . import SceneSkipped, UserFault, preflight
+    from ..usersim import SceneSkipped, UserFault, preflight
 
     sim = load_simulator(spec, whole, trajectories, process)
     if sim is None:
@@ -43,7 +44,7 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
     scenes = load_all(scenes)
     preflight(sim, scenes)
     if law:
-        from ..run.law import under_law
+        from .law import under_law
         scenes = under_law(scenes, law, sim)
     ok, judged, skipped = True, 0, 0
     print(f"{'scene':<16} {'identical':<36} {'step':<36} diagnosis")
@@ -67,7 +68,7 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
         stateful = keeps_state(sim, scene, states)   # as `run` does: no probes of a step that keeps state
         if stateful:
             print(f"warning: {scene.name}: {stateful}", file=sys.stderr)
-        diag = sim.diagnose(scene, traj, probe=stateful is None, step_row=step)   # the file's rounding too
+        diag = diagnose(sim, scene, traj, probe=stateful is None, step_row=step)   # the file's rounding too
         ok &= same.passed is not False and step.passed is not False
         judged += (same.passed is not None) + (step.passed is not None)
         print(f"{scene.name:<16} {_cell(same):<36} {_cell(step):<36} {diag['verdict']}")

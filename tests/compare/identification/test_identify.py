@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from compare.cli import main
-from compare.identify import identified_contact, identify_run, identify_step
+from compare.identification import identified_contact, identify_run, identify_step
 from compare.scenarios import builtin_names, load
 from compare.usersim import load_simulator, scene_dict
 from custom_sim import Stepper, mass_properties, simulate
@@ -254,7 +254,7 @@ def test_a_torque_that_is_not_r_cross_f_is_not_given_an_inertia(mistake, words):
     """The friction's arm with the wrong sign: no inertia reproduces the torque, and the inertia
     fitted is only the closest. Every torque with the wrong sign: an inertia reproduces it, the
     scene's with its sign turned, which the line says is no body's."""
-    from compare.identify.report import text
+    from compare.identification.report import text
     out = identify_step(Direct(numpy_step("semi_implicit_euler", normal="linear", **mistake)), load("box_drop"))
     assert out["matches_scene"]["body"] is False
     line = next(line for line in text(out).splitlines() if line.lstrip().startswith("body"))
@@ -266,7 +266,7 @@ def test_a_torque_that_is_not_r_cross_f_is_not_given_an_inertia(mistake, words):
 def test_a_point_mass_that_turns_is_not_the_scenes_body():
     """A point mass has no inertia to fit: the step must leave omega alone. One that spins it up
     (0.1 rad/s^2) is no body's, though the inertia compared (0) is the scene's."""
-    from compare.identify.report import text
+    from compare.identification.report import text
     scene = load("point_drop")
     seed = custom_step(scene)
 
@@ -415,8 +415,8 @@ def test_kinematics_computed_once_give_the_same_forces_and_never_serve_other_poi
     """A fit computes the points' kinematics once for all its trial laws: the forces from them
     are those computed afresh, bit for bit; a trial law that moves the points (a fitted arm)
     gets its own, not the stale ones."""
-    from compare.identify.from_step import scene_law
-    from compare.identify.model import accelerations, kinematics
+    from compare.identification.from_step import scene_law
+    from compare.identification.model import accelerations, kinematics
     from compare.usersim.scene_dict import scene_dict
 
     scene = load("t_shape_drop")

@@ -17,7 +17,8 @@ import pytest
 
 from compare.oracle.reference import Equations
 from compare.scenarios import load
-from compare.usersim import diagnosis, load_simulator, render_markdown, run_user
+from compare.diagnosis import diagnosis, render_markdown
+from compare.usersim import load_simulator, run_user
 
 OUTSIDER = Path(__file__).resolve().parents[2] / "outsiders" / "hc_box.py"
 
@@ -132,7 +133,7 @@ def step(state, scene, dt):
 def test_an_effect_is_named_where_its_reading_does_not_rest_on_what_failed(scene, tmp_path):
     """Before: no law at all, since the body (the torques) failed; the normal force is read from
     vy at the points where contact acts, which the torque does not enter."""
-    from compare.usersim.law_diagnosis import law_findings
+    from compare.diagnosis.laws import law_findings
 
     path = tmp_path / "hc_other.py"
     path.write_text(OTHER_DISSIPATION)
@@ -145,7 +146,7 @@ def test_an_effect_is_named_where_its_reading_does_not_rest_on_what_failed(scene
 def test_an_effect_whose_reading_rests_on_what_failed_is_not_read():
     """Synthetic identify answers: the contact points wrong leave nothing read; the inertia wrong
     leaves the normal force and friction read, the rolling resistance not."""
-    from compare.usersim.law_diagnosis import findings
+    from compare.diagnosis.laws import findings
 
     scene = load("rolling_circle")
     entry = {"exercised": True, "law": "tanh", "mu": 0.3, "alpha": 100.0, "mu_roll": 0.01, "roll_sharpness": 10.0}
@@ -167,7 +168,7 @@ def test_no_minus_zero_and_no_infinite_ratio_in_the_words():
 
     from compare.checks.step_check import _point_name
     from compare.oracle.reference import Equations
-    from compare.usersim.diagnosis import _ratio
+    from compare.diagnosis.diagnose import _ratio
 
     scene = load("elastic_bounce")
     eq = dataclasses.replace(Equations.from_scene(scene), points=((0.0, -0.0),))

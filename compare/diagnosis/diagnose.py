@@ -1,7 +1,7 @@
 """Where a user's simulator departs from the seed's algorithm, and which known mistake explains it.
 
 Two probes, both against the reference's independent step (compare/checks/step_check.py) and
-the catalogue of known mistakes (compare/checks/mistakes.py):
+the catalogue of known mistakes (compare/diagnosis/mistakes.py):
 
     moments      (a step function only) the user's step called from custom_sim's states at
                  chosen moments (flight, touchdown, a sliding corner, rolling, resting): which
@@ -28,15 +28,15 @@ import numpy as np
 
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
-from ..checks import mistakes
 from ..checks.case import as_case
 from ..checks.step_check import COMPONENTS, UNITS, first_failure, largest_residual
 from ..table import markdown, number
+from ..usersim.errors import UserCodeError, UserFault
+from ..usersim.scene_dict import scene_dict
+from . import mistakes
 from .energy_gain import energy_gain
-from .errors import UserCodeError, UserFault
-from .law_diagnosis import law_findings, law_verdict
+from .laws import law_findings, law_verdict
 from .moments import not_probed, pick_moments
-from .scene_dict import scene_dict
 
 
 def _moments(simulator, scene: Scene, integrator: str, also=(), case=None) -> dict:
@@ -121,6 +121,19 @@ def _named(*explained: list[str]) -> list[dict]:
                     names.append(part)
     return [{"name": n, "seed_line": mistakes.BY_NAME[n].seed_line,
              "description": mistakes.BY_NAME[n].description} for n in names]
+
+
+def diagnose(simulator, scene: Scene, trajectory, probe: bool = True, case=None, step_row=None) -> dict:
+    """The diagnosis of one run under test (trajectory: a Trajectory, its meta holding a file's
+    rounding). probe False: the step is not called from chosen states (it keeps state between
+    calls, so an answer out of order would not be the one its run used): the trajectory alone.
+    step_row: the step check's row of this trajectory, when the caller has it. The simulator is
+    closed afterwards (a process ends): nothing is left running once a scene is judged."""
+    try:
+        return diagnosis(simulator, scene, trajectory.states(), trajectory.meta.get("rounding"), case, probe,
+                         step_row)
+    finally:
+        simulator.close()
 
 
 def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=None, probe: bool = True,

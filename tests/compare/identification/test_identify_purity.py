@@ -11,10 +11,9 @@ import json
 import textwrap
 
 import numpy as np
-import pytest
 
 from compare.cli import main
-from compare.identify import identify_step
+from compare.identification import identify_step
 from compare.scenarios import load
 from compare.usersim import load_simulator
 
@@ -64,7 +63,7 @@ def test_a_step_that_keeps_state_gets_no_law_from_probes_and_is_read_from_its_ru
     assert "keeps state between calls" in out["keeps_state_why"]
     assert out["normal"]["law"] == "linear"
     assert abs(out["normal"]["k"] - 1e4) <= 1e-6 * 1e4 and abs(out["normal"]["c"] - 60.0) <= 1e-5 * 60.0
-    from compare.identify.report import text
+    from compare.identification.report import text
     shown = text(out)   # the table of the same object
     assert "keeps state between calls" in shown and "steps of its sequential run" in shown
 
@@ -102,15 +101,15 @@ def _sequential(step, scene, steps=None):
 
 
 def _body_line(result):
-    from compare.identify.report import text
+    from compare.identification.report import text
     return next(line for line in text(result).splitlines() if line.lstrip().startswith("body"))
 
 
 def test_an_effect_the_run_never_exercises_has_law_null(tmp_path):
     """point_drop dropped straight down: friction is listed, no step slides. Before: the law
     fitted to zero force stayed ("tanh" with the scene's mu, "(not exercised ...)" after it)."""
-    from compare.identify import identify_run
-    from compare.identify.report import text
+    from compare.identification import identify_run
+    from compare.identification.report import text
     from test_identify import custom_step
     path = short_scene(tmp_path, "point_drop", 0.3)
     path.write_text(path.read_text().replace("velocity = [1.0, 0.0]", "velocity = [0.0, 0.0]"))
@@ -143,7 +142,7 @@ def _two_speeds(fn, v):
 def test_an_inertia_resting_on_a_friction_of_no_family_is_no_finding(tmp_path):
     """A whole run of box_slide whose friction fits no family: the torque carries r_y Ft, so the
     inertia fitted beside the closest friction is none. Before: printed as a finding."""
-    from compare.identify import identify_run
+    from compare.identification import identify_run
     from test_identify import numpy_step
     scene = load(str(short_scene(tmp_path, "box_slide", 0.25)))
     out = identify_run(_sequential(numpy_step("semi_implicit_euler", normal="linear", traction=_two_speeds), scene),
@@ -174,7 +173,7 @@ def test_no_number_below_round_off_no_inf_no_minus_zero():
     """The table from a result holding what the words must not show: a residual of 6e-123 N
     within round-off, an infinite one, a contact point at -0 and one at 1e-17 m (below the
     points' own resolution)."""
-    from compare.identify.report import text
+    from compare.identification.report import text
     from test_identify import Direct, custom_step
     scene = load("box_drop")
     out = identify_step(Direct(custom_step(scene)), scene)
