@@ -93,7 +93,7 @@ def objective_plot(objective: list[float], path: Path, title: str) -> str:
     fig, ax = plt.subplots(figsize=(6, 3.5))
     ax.semilogy(range(len(objective)), objective, "o-", color="tab:blue")
     ax.set_xlabel("iteration")
-    ax.set_ylabel("objective (0.5 |r|^2)")
+    ax.set_ylabel("objective")
     ax.set_title(title)
     ax.grid(alpha=0.3, which="both")
     fig.tight_layout()
@@ -134,9 +134,9 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
              f"`mujoco.minimize.least_squares` (box bounds, finite differences batched through `mujoco.rollout`).", "",
              f"- status: **{r.status}** ({'converged' if r.converged else 'NOT converged'}) after {r.iterations} iterations",
              f"- cost: {r.wall_time:.1f} s wall time, {r.mujoco_steps:,} MuJoCo steps in {r.residual_evaluations} rollouts",
-             f"- objective: {r.objective[0]:.4g} -> {r.objective[-1]:.4g} (0.5 sum over the fitted scenes of the "
-             f"mean over steps of (difference / its largest under the {cal.base} mapping)^{P_NORM}: a minimax of "
-             f"each scene's largest difference relative to the mapping's; " + "; ".join(
+             f"- objective: {r.objective[0]:.4g} -> {r.objective[-1]:.4g} ((sum over the fitted scenes of the "
+             f"mean over steps of (difference / its largest under the {cal.base} mapping)^{P_NORM})^(1/{P_NORM}), "
+             f"about the largest of those ratios: a minimax; the largest differences: " + "; ".join(
                  f"{k} {v['position']:.3g} m" + (f", {v['angle']:.3g} rad" if v["angle"] is not None else "")
                  for k, v in r.scales.items()) + ")",
              "- largest difference over the mapping's at the values returned: " + ", ".join(
