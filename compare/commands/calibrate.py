@@ -123,7 +123,7 @@ def _run(args, fitted, held, params, base_mapping, out) -> int:
         for g in cal.gave_up:
             print(f"gave up {g['scene']}: {g['why']}")
         print(cal.verdict)
-        print(f"calibrated twin written ({'the fit' if cal.accepted else f'the {cal.base} mapping'}'s values): "
+        print(f"calibrated twin written ({f'the {cal.base} mapping' if cal.carries_mapping else 'the fit'}'s values): "
               f"{', '.join(f'model_{s.scene.name}.xml' for s in cal.scenes)}")
     print(f"status: {result.status} ({'converged' if result.converged else 'NOT converged'}), "
           f"{result.iterations} iterations, {result.wall_time:.1f} s")

@@ -66,8 +66,17 @@ class Calibration:
         return not self.gave_up
 
     @property
+    def carries_mapping(self) -> bool:
+        """The calibrated twin carries the base mapping's values: the fit was rejected, or no point
+        of the optimiser's step was better on every fitted scene (fit.step_back kept none of it)."""
+        return not self.accepted or self.result.step_back == 0.0
+
+    @property
     def verdict(self) -> str:
         """One sentence: the fit kept, or rejected with the scenes it gave up and why."""
+        if self.accepted and self.carries_mapping:
+            return (f"no point of the optimiser's step lowers the largest difference of every fitted scene: "
+                    f"the calibrated twin keeps the {self.base} mapping's values")
         if self.accepted:
             return f"fit kept: no fitted scene is worse than with the {self.base} mapping"
         names = ", ".join(g["scene"] for g in self.gave_up)

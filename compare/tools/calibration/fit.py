@@ -115,6 +115,7 @@ class FitResult:
     start_paths: dict = field(default_factory=dict)
     ratios: dict = field(default_factory=dict)   # scene -> largest ratio at the values returned
     step_back: float = 1.0          # fraction of the optimiser's step kept (step_back)
+    optimiser_values: np.ndarray | None = None   # where the optimiser itself ended (before step_back)
 
     @property
     def parameters(self) -> dict[str, float]:
@@ -148,6 +149,7 @@ def fit(targets: list[Target], params, max_iter: int = MAX_ITERATIONS, nthread: 
         begin = time.perf_counter()
         z, trace, log, kept, ratios = minimax(residual, worst, PNorm.of(targets, scales), z0, lower, upper,
                                               max_iter, len(targets))
+        z_end = np.ravel(trace[-1].candidate)     # the optimiser's own end point (the trace's last log)
         wall = time.perf_counter() - begin
         steps = batch.steps
     status, _ = _status(log)
@@ -160,7 +162,8 @@ def fit(targets: list[Target], params, max_iter: int = MAX_ITERATIONS, nthread: 
                      steps, calls[0], log,
                      scales={t.name: {"position": sc[0], "angle": sc[1]} for t, sc in zip(targets, scales)},
                      start_errors=errors0, start_paths=paths0,
-                     ratios={t.name: float(r) for t, r in zip(targets, ratios)}, step_back=float(kept))
+                     ratios={t.name: float(r) for t, r in zip(targets, ratios)}, step_back=float(kept),
+                     optimiser_values=p0 * np.exp(z_end))
 
 
 def start_scale(target: Target, start: dict) -> tuple[float, float | None]:

@@ -17,7 +17,8 @@ calibration.json (every length in m, angle in rad):
                      the start's largest)^p, fit.py), p_norm, `scales` {scene: {position: m,
                      angle: rad or null}} (the start's largest differences), ratios {scene:
                      largest ratio at the values returned}, step_back (fraction of the
-                     optimiser's step kept), wall_time (s), mujoco_steps, residual_evaluations,
+                     optimiser's step kept), optimiser_values {name: where the optimiser
+                     itself ended}, wall_time (s), mujoco_steps, residual_evaluations,
                      readback ok
 """
 from __future__ import annotations
@@ -80,6 +81,8 @@ def payload(cal: Calibration) -> dict:
             "kinds": {p.name: p.kind for p in cal.params},
             "at_bound": r.at_bound, "iterations": r.iterations, "objective": r.objective,
             "scales": r.scales, "p_norm": P_NORM, "ratios": r.ratios, "step_back": r.step_back,
+            "optimiser_values": (None if r.optimiser_values is None
+                                 else dict(zip(r.parameters, map(float, r.optimiser_values)))),
             "wall_time": r.wall_time, "mujoco_steps": r.mujoco_steps,
             "residual_evaluations": r.residual_evaluations,
             "jacobian_cost": cal.jacobian,
@@ -142,7 +145,8 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
              "- largest difference over the mapping's at the values returned: " + ", ".join(
                  f"{k} {v:.3g}" for k, v in r.ratios.items()) + (
                  "" if r.step_back == 1.0 else f" (after stepping back to {r.step_back:g} of the optimiser's "
-                 f"step, where the largest ratio over the scenes is smallest)"),
+                 f"step, where the largest ratio over the scenes is smallest; the optimiser ended at " + ", ".join(
+                     f"{p.name} {v:.4g}" for p, v in zip(cal.params, r.optimiser_values)) + ")"),
              f"- **{cal.verdict}**"]
     j = cal.jacobian
     if j:

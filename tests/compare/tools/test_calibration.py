@@ -333,3 +333,18 @@ def test_a_fit_that_cannot_run_exits_1_and_writes_nothing(short_scenes, monkeypa
     assert main(["calibrate", "box_slide", "--max-iter", "1", "--threads", "1", "--out", str(out)]) == 1
     assert "nothing written" in capsys.readouterr().out
     assert not out.exists() or not any(out.iterdir())
+
+
+def test_a_fit_that_steps_back_to_the_start_says_the_twin_is_the_mapping(monkeypatch):
+    """When no point of the optimiser's step is better on every fitted scene, the values are the
+    start's, and the verdict and the command's output say the twin carries the mapping's values."""
+    import compare.tools.calibration.calibration as calibration
+
+    real = calibration.fit
+    monkeypatch.setattr(calibration, "fit", lambda *a, **kw: dataclasses.replace(
+        real(*a, **kw), values=np.ones(2), step_back=0.0))
+    scene = dataclasses.replace(load("box_slide"), duration=0.1)
+    cal = calibration.calibrate([scene], [], PARAMS, "penalty", max_iter=1, nthread=1)
+    assert cal.accepted and cal.carries_mapping and "keeps the penalty mapping's values" in cal.verdict
+    (s,) = cal.scenes
+    assert np.array_equal(s.paths["calibrated"], s.paths["penalty"])
