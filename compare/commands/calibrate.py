@@ -1,19 +1,21 @@
 """Fit the MuJoCo twin's contact settings to custom_sim's trajectories (or, with --reverse,
 custom_sim's k, c, mu, alpha to MuJoCo's).
 
-Nonlinear least squares (mujoco.minimize.least_squares, box bounds) on the position and angle
-of every fitted scene at once; finite differences run as batches of twins in mujoco.rollout.
+The fit minimises, over the fitted scenes at once, each scene's largest position and angle
+difference relative to the starting mapping's (a minimax through a high p-norm, solved by
+mujoco.minimize.least_squares with box bounds); finite differences run as batches of twins in mujoco.rollout.
 Default: fit box_slide and point_drop, hold out box_drop and t_shape_drop. --fit takes a
 comma-separated list of: solref.stiffness, solref.damping (direct form, on the penalty
 mapping) or solref.timeconst, solref.dampratio (positive form, on the physical mapping),
 solreffriction.damping, friction.slide, friction.roll, solimp.d0, solimp.dwidth, solimp.width,
 solimp.midpoint, solimp.power, impratio (default: solref.stiffness, solref.damping,
 solreffriction.damping, friction.slide). Writes DIR/index.md, DIR/calibration.json,
-DIR/model_<scene>.xml (the calibrated MJCF) and plots. Each scene weighs by its own error
-under the starting mapping, and a fit that leaves a fitted scene worse than that mapping (its
-largest position or angle difference) is rejected: the calibrated twin keeps the mapping's
-values, and the status names the scene and why. Exit status: 0 converged, 1 not converged,
-2 bad input (nothing is written).
+DIR/model_<scene>.xml (the calibrated MJCF) and plots. A fit that leaves a fitted scene worse
+than the starting mapping (its largest position or angle difference) is rejected: the
+calibrated twin keeps the mapping's values, and the output names the scene and why. Exit
+status: 0 when a calibrated twin is written (whether the optimiser converged, stopped at
+--max-iter, or its fit was rejected: the output says which), 1 when the fit could not run (a
+reference run diverged; nothing written), 2 bad input (nothing written).
 """
 from __future__ import annotations
 
@@ -40,7 +42,8 @@ def add_arguments(parser) -> None:
                         help="fit custom_sim's k, c, mu, alpha to the twin's trajectory instead")
     parser.add_argument("--solref", choices=("penalty", "physical", "seed"), default=None,
                         help="--reverse: the twin's mapping to match (default: the scene's [mujoco] solref)")
-    parser.add_argument("--max-iter", type=int, default=30, help="optimiser iterations (default 30)")
+    parser.add_argument("--max-iter", type=int, default=None,
+                        help="optimiser iterations (default 12, --reverse 30)")
     parser.add_argument("--threads", type=int, default=os.cpu_count() or 1,
                         help="mujoco.rollout threads (default: every core)")
     parser.add_argument("--out", default=None, metavar="DIR",
@@ -52,8 +55,12 @@ def _m(x) -> str:
 
 
 def main(args) -> int:
+    from ..tools.calibration.fit import MAX_ITERATIONS
+    from ..tools.calibration.reverse import MAX_ITERATIONS as REVERSE_MAX_ITERATIONS
     from ..tools.calibration.parameters import base_mapping, parse_fit
 
+    if args.max_iter is None:
+        args.max_iter = REVERSE_MAX_ITERATIONS if args.reverse else MAX_ITERATIONS
     if args.max_iter < 1:
         raise BadInput(f"--max-iter: {args.max_iter} (expected a whole number >= 1)")
     if args.reverse and args.fit:
@@ -116,9 +123,13 @@ def _run(args, fitted, held, params, base_mapping, out) -> int:
         for g in cal.gave_up:
             print(f"gave up {g['scene']}: {g['why']}")
         print(cal.verdict)
+        print(f"calibrated twin written ({f'the {cal.base} mapping' if cal.carries_mapping else 'the fit'}'s values): "
+              f"{', '.join(f'model_{s.scene.name}.xml' for s in cal.scenes)}")
     print(f"status: {result.status} ({'converged' if result.converged else 'NOT converged'}), "
           f"{result.iterations} iterations, {result.wall_time:.1f} s")
     if result.at_bound:
         print(f"on a bound: {', '.join(result.at_bound)}")
     print(f"report: {index}")
-    return 0 if result.converged else 1
+    if args.reverse:
+        return 0 if result.converged else 1
+    return 0   # a calibrated twin is written: the fit's values, or the mapping's when rejected

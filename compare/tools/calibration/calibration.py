@@ -8,9 +8,9 @@ settings written on its <pair>s. `readback` compiles that spec and also reloads 
 it writes, and reads every fitted setting back from the two MjModels: a value that never
 reached the model shows there, not as a good-looking fit of the wrong model.
 
-A fit must not lose to the mapping it starts from on a scene it was fitted to. The fit weighs
-each scene by its own error at the start (fit.py), and `calibrate` then measures the fitted
-values on every fitted scene: where either largest difference (position, angle) is above the
+A fit must not lose to the mapping it starts from on a scene it was fitted to. The fit
+minimises each scene's largest error relative to the start's (fit.py), and `calibrate` then
+measures the fitted values on every fitted scene: where either largest difference (position, angle) is above the
 base mapping's, the fit is rejected and the calibrated twin keeps the base mapping's values;
 the Calibration names each scene the fit gave up, with both figures and why (`gave_up`).
 """
@@ -26,7 +26,7 @@ from custom_sim import Scene, simulate
 from mujoco_models import MAPPINGS, build_twin
 
 from scene_types import BadInput
-from .fit import FitResult, fit, jacobian_cost
+from .fit import FitResult, fit
 from .settings import ContactSettings, calibrated, read_model, write_spec
 from .targets import Batch, Target, errors, prepare, residual_of
 
@@ -66,8 +66,17 @@ class Calibration:
         return not self.gave_up
 
     @property
+    def carries_mapping(self) -> bool:
+        """The calibrated twin carries the base mapping's values: the fit was rejected, or no point
+        of the optimiser's step was better on every fitted scene (fit.step_back kept none of it)."""
+        return not self.accepted or self.result.step_back == 0.0
+
+    @property
     def verdict(self) -> str:
         """One sentence: the fit kept, or rejected with the scenes it gave up and why."""
+        if self.accepted and self.carries_mapping:
+            return (f"no point of the optimiser's step lowers the largest difference of every fitted scene: "
+                    f"the calibrated twin keeps the {self.base} mapping's values")
         if self.accepted:
             return f"fit kept: no fitted scene is worse than with the {self.base} mapping"
         names = ", ".join(g["scene"] for g in self.gave_up)
@@ -113,7 +122,7 @@ def calibrate(fitted: list[Scene], held_out: list[Scene], params, base: str,
                                f"{ref} (expected c > 0 to fit solref.timeconst/solref.dampratio)")
     fit_targets = [targets[s.name] for s in fitted]
     result = fit(fit_targets, params, max_iter=max_iter, nthread=nthread)
-    cost = jacobian_cost(fit_targets, params, nthread)
+    cost = {}   # fit.jacobian_cost times one Jacobian two ways: a measurement, not run here
     mapping_settings = {}
 
     def calibrated_run(scene, values, batch):
@@ -134,7 +143,10 @@ def calibrate(fitted: list[Scene], held_out: list[Scene], params, base: str,
             errs, paths = {}, {}
             for mapping in MAPPINGS:
                 t = target if mapping == base else prepare(scene, mapping, references[scene.name])
-                paths[mapping] = batch.paths(t, [t.base.settings])[0]
+                if mapping == base and scene.name in result.start_paths:
+                    paths[mapping] = result.start_paths[scene.name]   # the fit's start: the same run
+                else:
+                    paths[mapping] = batch.paths(t, [t.base.settings])[0]
                 mapping_settings.setdefault(scene.name, {})[mapping] = t.base.settings
                 errs[mapping] = errors(target, paths[mapping])
             paths["calibrated"], settings, xml, rows = calibrated_run(scene, result.values, batch)
@@ -142,8 +154,7 @@ def calibrate(fitted: list[Scene], held_out: list[Scene], params, base: str,
             reports.append(SceneReport(scene, held, errs, paths, target.reference,
                                        np.arange(target.steps + 1) * target.dt, settings, xml, rows))
         fitted_errors = {r.scene.name: dict(r.errors["calibrated"]) for r in reports}
-        gave_up = [given_up(r, base, targets[r.scene.name], result.values, params, batch,
-                            [s.name for s in fitted if s.name != r.scene.name])
+        gave_up = [given_up(r, base, targets[r.scene.name], [s.name for s in fitted if s.name != r.scene.name])
                    for r in reports if not r.held_out and worse(r.errors["calibrated"], r.errors[base])]
         values = result.values
         if gave_up:
@@ -166,13 +177,12 @@ def worse(fitted: dict, start: dict) -> bool:
             or fitted["angle_error_max"] > start["angle_error_max"])
 
 
-def given_up(report: SceneReport, base: str, target: Target, values, params, batch: Batch,
-             others: list[str]) -> dict:
+def given_up(report: SceneReport, base: str, target: Target, others: list[str]) -> dict:
     """What the fit did to a fitted scene it made worse: the largest differences and the RMS
-    difference the fit minimises (targets.residual_of: position, and angle times the radius of
-    gyration), with the base mapping's and the fitted values, and why in a sentence."""
-    rms = {key: float(np.linalg.norm(residual_of(target, batch.paths(target, [s]))))
-           for key, s in ((base, target.base.settings), ("fitted", calibrated(target.base, params, values)))}
+    difference (targets.residual_of: position, and angle times the radius of gyration), with the
+    base mapping's and the fitted values (the runs already in the report), and why in a sentence."""
+    rms = {key: float(np.linalg.norm(residual_of(target, report.paths[run][None])))
+           for key, run in ((base, base), ("fitted", "calibrated"))}
     e0, e1 = report.errors[base], report.errors["calibrated"]
     out = {"scene": report.scene.name,
            "position_error_max": {base: e0["position_error_max"], "fitted": e1["position_error_max"]},
@@ -181,8 +191,8 @@ def given_up(report: SceneReport, base: str, target: Target, values, params, bat
     if e1["diverged"]:
         why = "the fitted values make its run diverge"
     elif rms["fitted"] <= rms[base]:
-        why = (f"least squares lowered its RMS difference ({rms[base]:.3g} m to {rms['fitted']:.3g} m) but not "
-               f"its largest ({_pair(e0, e1)}): the fit traded the peak for the mean")
+        why = (f"the fit lowered its RMS difference ({rms[base]:.3g} m to {rms['fitted']:.3g} m) but not "
+               f"its largest ({_pair(e0, e1)}): the peak rose while the mean fell")
     elif not others:
         why = (f"the optimiser ended above its start ({_pair(e0, e1)}; RMS {rms[base]:.3g} m to "
                f"{rms['fitted']:.3g} m)")

@@ -13,8 +13,13 @@ calibration.json (every length in m, angle in rad):
                      angle_error_max {...}, settings (the calibrated pair values), causes;
                      rejected_fit {position_error_max, angle_error_max} when rejected
     fit              start values, bounds, at_bound, iterations, objective per iteration
-                     (dimensionless: each scene's residual over its RMS at the start, `scales`),
-                     wall_time (s), mujoco_steps, residual_evaluations, readback ok
+                     (dimensionless: 0.5 sum over scenes of the mean over steps of (difference /
+                     the start's largest)^p, fit.py), p_norm, `scales` {scene: {position: m,
+                     angle: rad or null}} (the start's largest differences), ratios {scene:
+                     largest ratio at the values returned}, step_back (fraction of the
+                     optimiser's step kept), optimiser_values {name: where the optimiser
+                     itself ended}, wall_time (s), mujoco_steps, residual_evaluations,
+                     readback ok
 """
 from __future__ import annotations
 
@@ -32,6 +37,7 @@ from ...files import finite_json, write_text_atomically  # noqa: E402
 from ...table import markdown, number  # noqa: E402
 from .calibration import Calibration  # noqa: E402
 from .causes import causes, short  # noqa: E402
+from .fit import P_NORM  # noqa: E402
 
 COLUMNS = (*MAPPINGS[::-1], "calibrated")   # seed, physical, penalty, calibrated
 
@@ -74,7 +80,9 @@ def payload(cal: Calibration) -> dict:
             "bounds": {p.name: [p.lower, p.upper] for p in cal.params},
             "kinds": {p.name: p.kind for p in cal.params},
             "at_bound": r.at_bound, "iterations": r.iterations, "objective": r.objective,
-            "scales": r.scales,
+            "scales": r.scales, "p_norm": P_NORM, "ratios": r.ratios, "step_back": r.step_back,
+            "optimiser_values": (None if r.optimiser_values is None
+                                 else dict(zip(r.parameters, map(float, r.optimiser_values)))),
             "wall_time": r.wall_time, "mujoco_steps": r.mujoco_steps,
             "residual_evaluations": r.residual_evaluations,
             "jacobian_cost": cal.jacobian,
@@ -88,7 +96,7 @@ def objective_plot(objective: list[float], path: Path, title: str) -> str:
     fig, ax = plt.subplots(figsize=(6, 3.5))
     ax.semilogy(range(len(objective)), objective, "o-", color="tab:blue")
     ax.set_xlabel("iteration")
-    ax.set_ylabel("objective 0.5 |r|^2 (r: residual / its RMS at the start)")
+    ax.set_ylabel("objective")
     ax.set_title(title)
     ax.grid(alpha=0.3, which="both")
     fig.tight_layout()
@@ -129,9 +137,16 @@ def index_page(cal: Calibration, data: dict, figures: dict) -> str:
              f"`mujoco.minimize.least_squares` (box bounds, finite differences batched through `mujoco.rollout`).", "",
              f"- status: **{r.status}** ({'converged' if r.converged else 'NOT converged'}) after {r.iterations} iterations",
              f"- cost: {r.wall_time:.1f} s wall time, {r.mujoco_steps:,} MuJoCo steps in {r.residual_evaluations} rollouts",
-             f"- objective: {r.objective[0]:.4g} -> {r.objective[-1]:.4g} (0.5 sum over the fitted scenes of "
-             f"(RMS difference / its RMS at the start)^2: each scene weighs by its own error under the "
-             f"{cal.base} mapping, " + ", ".join(f"{k} {v:.3g} m" for k, v in r.scales.items()) + ")",
+             f"- objective: {r.objective[0]:.4g} -> {r.objective[-1]:.4g} ((sum over the fitted scenes of the "
+             f"mean over steps of (difference / its largest under the {cal.base} mapping)^{P_NORM})^(1/{P_NORM}), "
+             f"about the largest of those ratios: a minimax; the largest differences: " + "; ".join(
+                 f"{k} {v['position']:.3g} m" + (f", {v['angle']:.3g} rad" if v["angle"] is not None else "")
+                 for k, v in r.scales.items()) + ")",
+             "- largest difference over the mapping's at the values returned: " + ", ".join(
+                 f"{k} {v:.3g}" for k, v in r.ratios.items()) + (
+                 "" if r.step_back == 1.0 else f" (after stepping back to {r.step_back:g} of the optimiser's "
+                 f"step, where the largest ratio over the scenes is smallest; the optimiser ended at " + ", ".join(
+                     f"{p.name} {v:.4g}" for p, v in zip(cal.params, r.optimiser_values)) + ")"),
              f"- **{cal.verdict}**"]
     j = cal.jacobian
     if j:
