@@ -29,7 +29,7 @@ def _num(x, unit: str = "") -> str:
 
 
 def _write_atomically(path: Path, text: str) -> None:
-    """Complete or absent, with the umask's permissions (compare/report/atomic.py)."""
+    """Complete or absent, with the umask's permissions (compare/files.py)."""
     write_text_atomically(path, text)
 
 
