@@ -29,7 +29,7 @@ import numpy as np
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged
 
 from ..checks.case import as_case
-from ..checks.step_check import COMPONENTS, UNITS, first_failure, largest_residual
+from ..checks.step_check import COMPONENTS, UNITS, check_step, first_failure, largest_residual
 from ..table import markdown, number
 from ..usersim.errors import UserCodeError, UserFault
 from ..usersim.scene_dict import scene_dict
@@ -193,6 +193,7 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
         if step_row.passed is False:
             parts.append("your trajectory: " + _trajectory_where(step_row))
         verdict = "no catalogued mistake explains the residual to round-off: " + "; ".join(parts)
+        leads += [other_method(scene, states, integrator, scene.integrator, rounding)]
         laws = law_findings(simulator, scene, states, rounding, probe)
         leads += [law_verdict(laws)] if laws else []
         leads += [torque_finding(moments, traj.get("force"))]
@@ -204,6 +205,22 @@ def diagnosis(simulator, scene: Scene, states: np.ndarray, rounding=None, case=N
     return {"integrator": integrator, "moments": moments, "trajectory": {**traj, "step": step_row.to_json()},
             "named": named, "not_named": not_named, "force": force, "verdict": verdict, "laws": laws,
             "energy_gain": gain}
+
+
+def other_method(scene: Scene, states: np.ndarray, stepped: str, asked: str, rounding=None) -> str | None:
+    """Where the run fails the step check under `stepped` (the integrator the simulator declares,
+    else the scene's) and passes it at every step under another of the four: a sentence naming
+    that method and how to declare it. None where no other method explains every step."""
+    for other in INTEGRATORS:
+        if other == stepped:
+            continue
+        if check_step(scene, states, other, scene.dt, input_rtol=rounding or 0.0).passed:
+            said = (f"you declare {stepped}" if stepped != asked else
+                    f"the scene asks {asked} and your code declares none")
+            return (f"your step is {other}: every step agrees with {other}'s to round-off ({said}); declare "
+                    f"it (INTEGRATOR = \"{other}\" in a Python module, `ready {other}` on the step protocol) "
+                    f"or step with {asked}")
+    return None
 
 
 def _capital(text: str) -> str:

@@ -44,3 +44,15 @@ def test_a_position_only_difference_is_no_force(sim):
 def test_it_agrees_where_it_follows_the_scene(sim):
     diag = _diagnose(sim, "box_drop", 0.3)
     assert diag["verdict"].startswith("every step agrees"), diag["verdict"]
+
+
+def test_the_method_the_step_really_is_is_named_with_how_to_declare_it(sim):
+    """spinning_box asks RK4 and the outsider declares no integrator: every step of its run is
+    semi-implicit Euler's to round-off (the step check under that method passes), so the diagnosis
+    names that method and says how to declare it (issue 32, item 5)."""
+    diag = _diagnose(sim, "spinning_box", 0.05)
+    assert ("your step is semi_implicit_euler: every step agrees with semi_implicit_euler's to round-off "
+            "(the scene asks rk4 and your code declares none)") in diag["verdict"], diag["verdict"]
+    assert 'INTEGRATOR = "semi_implicit_euler"' in diag["verdict"]
+    # where the step is the scene's method (box_drop asks semi-implicit Euler) nothing is said
+    assert "your step is" not in _diagnose(sim, "box_drop", 0.3)["verdict"]
