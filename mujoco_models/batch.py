@@ -56,7 +56,7 @@ def simulate_mujoco_batch(scenes: list[Scene], samples: list[np.ndarray] | None 
         samples = [np.arange(n + 1) for *_, n in setups]
     samples = [np.asarray(r, dtype=np.int64) for r in samples]
     groups: dict[tuple, list[int]] = {}
-    for b, (twin, model, _, start, n) in enumerate(setups):
+    for b, (_, model, _, start, n) in enumerate(setups):
         groups.setdefault((n, start.size, model.nq, model.nv, model.ngeom, model.npair), []).append(b)
     out: list[TwinRun | None] = [None] * len(scenes)
     for (n, nstate, *_), members in groups.items():

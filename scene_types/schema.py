@@ -319,7 +319,8 @@ def _parse_body(v: _Validator, b: dict, effects: tuple[str, ...]) -> Body:
         total = sum(p.mass for p in parts)
         mass = v.positive(b, "mass", prefix="body.")
         if mass is not None and not math.isclose(mass, total, rel_tol=1e-9):
-            raise SceneError(v.file, "body.mass", f"{mass} kg differs from the sum of the parts {total} kg (expected equal, or omit it)")
+            raise SceneError(v.file, "body.mass",
+                             f"{mass} kg differs from the sum of the parts {total} kg (expected equal, or omit it)")
         return Body(shape=shape, mass=total, parts=tuple(parts))
     mass = v.positive(b, "mass", prefix="body.", required=True)
     if shape == "box":

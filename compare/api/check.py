@@ -3,7 +3,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any, Mapping
+from typing import Any
+from collections.abc import Mapping
 
 # the two measured quantities of a row (metrics.json keys) and their units
 QUANTITIES = (("position", "position_error_max", "tolerance_position", "m"),

@@ -13,8 +13,8 @@ scene, and asks it for what it needs:
     case.envelope(integrator)        the round-off envelope of custom_sim's run (check identical)
 
 A function of the case alone (a CSV file of its runs, their energy balance) is cached with the
-case as its argument: the case is keyed by its scene. Each is computed on first use and kept; a failure (a divergence) is kept too and raised again,
-so no run is repeated to get its exception back.
+case as its argument: the case is keyed by its scene. Each is computed on first use and kept;
+a failure (a divergence) is kept too and raised again, so no run is repeated to get its exception back.
 """
 from __future__ import annotations
 

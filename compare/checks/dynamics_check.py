@@ -28,7 +28,8 @@ Tolerance (m, rad), derived:
    mu, alpha, mu_roll and the step h scaled by 1 +- SENSITIVITY_PERTURBATION (a round-off-sized
    difference in every force and every update, as two implementations have; systematic, so it
    parts faster than round-off's random signs) and the initial angle moved by as much (a pose
-   balanced on a corner is tipped by the rounding of its lever arm, which no force scale changes). The tolerance becomes SENSITIVITY_SAFETY times their largest
+   balanced on a corner is tipped by the rounding of its lever arm, which no force scale
+   changes). The tolerance becomes SENSITIVITY_SAFETY times their largest
    distance from the twin, and the check judges only up to the horizon where that reaches
    HORIZON_POSITION or HORIZON_ANGLE: past it the motion has forgotten its round-off and a
    difference says nothing about a mistake. The row gives the bound used, the horizon, the

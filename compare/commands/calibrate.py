@@ -68,7 +68,8 @@ def main(args) -> int:
     if args.reverse and args.test:
         raise BadInput("--test: not used with --reverse (the reverse fit reports every scene it fits)")
     if not args.reverse and args.solref:
-        raise BadInput("--solref: only used with --reverse (the forward fit starts from the penalty or physical mapping, by --fit)")
+        raise BadInput("--solref: only used with --reverse (the forward fit starts from the penalty or physical "
+                       "mapping, by --fit)")
     params = None if args.reverse else parse_fit(args.fit)
     fitted = load_all(list(args.scenes or DEFAULT_FITTED))
     test = args.test if args.test is not None else ("" if args.scenes else ",".join(DEFAULT_HELD_OUT))

@@ -60,7 +60,7 @@ def findings(result: dict, scene: Scene, declared: str) -> list[dict]:
     failed = _failed(result, declared)
     asked = effect_texts(scene.contact)
     out = []
-    for effect, field in FIELD.items():
+    for effect in FIELD:
         if result["matches_scene"].get(effect) is not False:
             continue
         blocked = [failed[p] for p in RESTS_ON[effect] if p in failed]

@@ -24,7 +24,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 from dataclasses import dataclass, field
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -685,7 +685,7 @@ def diagnose_step(step_fn, scene, moments, integrator: str | None = None, dt: fl
     for m in singles + pairs:
         z1, b, _ = m.step(scene, Z, dt, integrator)
         variants[m.name] = (np.all(np.abs(user - z1) <= b, axis=1), m)
-    for k, (name, z) in enumerate(items):
+    for k, (name, _) in enumerate(items):
         agree, r, ratio = _compare(user[k], ref[k], bound[k])
         entry = {"name": name, "state": [float(v) for v in Z[k]], "phase": phase(eq, Z[k], ref[k]),
                  "agrees": agree, "residual": {c: float(v) for c, v in zip(COMPONENTS, r)},

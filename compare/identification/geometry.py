@@ -22,7 +22,7 @@ class Geometry:
     onset: float = 0.0
 
     @classmethod
-    def of_scene(cls, scene_d: dict) -> "Geometry":
+    def of_scene(cls, scene_d: dict) -> Geometry:
         mp = scene_d["mass_properties"]
         return cls(np.array(mp["contact_points"], dtype=float).reshape(-1, 2),
                    bool(mp["points_rotate"]), bool(mp["rotates"]))
@@ -91,8 +91,8 @@ class Geometry:
             arcs.append((float(a), float(a + (length - 1) * step)))
         return arcs
 
-    def with_points(self, points: np.ndarray) -> "Geometry":
+    def with_points(self, points: np.ndarray) -> Geometry:
         return Geometry(np.asarray(points, dtype=float).reshape(-1, 2), self.rotate, self.rotates, self.onset)
 
-    def with_onset(self, onset: float) -> "Geometry":
+    def with_onset(self, onset: float) -> Geometry:
         return Geometry(self.points, self.rotate, self.rotates, float(onset))

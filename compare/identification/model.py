@@ -22,7 +22,7 @@ class Law:
     friction: tuple[Family, tuple] | None
     rolling: tuple[Family, tuple] | None
 
-    def with_(self, **changes) -> "Law":
+    def with_(self, **changes) -> Law:
         return replace(self, **changes)
 
 

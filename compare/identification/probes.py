@@ -40,7 +40,7 @@ class Probes:
     Z1: np.ndarray | None = None
 
     @classmethod
-    def build(cls, rows: list[tuple[str, np.ndarray, float, int]]) -> "Probes":
+    def build(cls, rows: list[tuple[str, np.ndarray, float, int]]) -> Probes:
         if not rows:
             return cls(np.array([], dtype=object), np.zeros((0, 6)), np.zeros(0), np.zeros(0, dtype=int))
         kind, Z0, H, point = zip(*rows)
@@ -50,14 +50,14 @@ class Probes:
     def __len__(self) -> int:
         return len(self.Z0)
 
-    def take(self, mask) -> "Probes":
+    def take(self, mask) -> Probes:
         return Probes(self.kind[mask], self.Z0[mask], self.H[mask], self.point[mask],
                       None if self.Z1 is None else self.Z1[mask])
 
-    def of(self, *kinds: str) -> "Probes":
+    def of(self, *kinds: str) -> Probes:
         return self.take(np.isin(self.kind, kinds))
 
-    def join(self, other: "Probes") -> "Probes":
+    def join(self, other: Probes) -> Probes:
         z1 = None if self.Z1 is None or other.Z1 is None else np.vstack([self.Z1, other.Z1])
         return Probes(np.concatenate([self.kind, other.kind]), np.vstack([self.Z0, other.Z0]),
                       np.concatenate([self.H, other.H]), np.concatenate([self.point, other.point]), z1)
@@ -82,7 +82,7 @@ class Scales:
         return share * d0 if not self.depths or share not in self.depths else self.depths[share]
 
     @classmethod
-    def of(cls, scene_d: dict, geometry: Geometry) -> "Scales":
+    def of(cls, scene_d: dict, geometry: Geometry) -> Scales:
         ct, mp = scene_d["contact"], scene_d["mass_properties"]
         g = scene_d["g"] if "gravity" in scene_d["effects"] else 0.0
         rest = mp["mass"] * g / ct["k"]

@@ -12,7 +12,7 @@ Derivation: docs/oracle-laws.md#the-force-law-and-its-round-off-scale.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 

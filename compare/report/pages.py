@@ -323,7 +323,9 @@ def _step_failure(check) -> str:
     """What a failed step row's position and angle columns cannot show: the component over
     round-off (a velocity, when the force is wrong)."""
     d = check.details
-    return f": {first_over(check)} at step {d['first_step']}" if check.passed is False and d.get("first_residual") is not None else ""
+    if check.passed is False and d.get("first_residual") is not None:
+        return f": {first_over(check)} at step {d['first_step']}"
+    return ""
 
 
 def write_index(out: Path, rows: list[dict], failures: list[tuple[str, str]]) -> Path:

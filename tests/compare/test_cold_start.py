@@ -60,7 +60,8 @@ def test_the_parallel_warm_up_compiles_both_loops_into_an_empty_cache_and_says_s
 
 def test_the_cache_stamp_follows_numba_cache_dir(tmp_path):
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
-    out = subprocess.run([sys.executable, "-c", "from custom_sim.compile_cache import cache_folder, fresh_cache; fresh_cache(); print(cache_folder())"],
+    code = "from custom_sim.compile_cache import cache_folder, fresh_cache; fresh_cache(); print(cache_folder())"
+    out = subprocess.run([sys.executable, "-c", code],
                          cwd=ROOT, env=env, capture_output=True, text=True, check=True).stdout.strip()
     assert Path(out).is_relative_to(tmp_path), out
     assert (Path(out) / "numba_sources.sha256").is_file(), "the source digest is kept beside numba's cache"

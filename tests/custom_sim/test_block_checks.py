@@ -51,7 +51,8 @@ def checked_by_blocks(scene, ext, applied_input=False):
     return stop, out[:stop if stop >= 0 else scene.steps], z, watch
 
 
-def assert_same_stop(scene, ext=np.zeros((1, 3)), applied_input=False) -> int:
+def assert_same_stop(scene, ext=None, applied_input=False) -> int:
+    ext = np.zeros((1, 3)) if ext is None else ext
     a, b = checked_every_step(scene, ext, applied_input), checked_by_blocks(scene, ext, applied_input)
     assert a[0] == b[0], (a[0], b[0])
     for x, y in zip(a[1:], b[1:]):

@@ -46,7 +46,8 @@ def test_the_poison_reaches_the_state_when_a_term_is_evaluated():
     model, points = build_model(scene)
     failed, _ = run_model(model._replace(friction=True), points, scene)
     assert failed == 1, "the first step in contact must produce NaN"
-    failed, _ = run_model(model._replace(rolling=True), points, dataclasses.replace(scene, initial=dataclasses.replace(scene.initial, angular_velocity=1.0)))
+    spinning = dataclasses.replace(scene, initial=dataclasses.replace(scene.initial, angular_velocity=1.0))
+    failed, _ = run_model(model._replace(rolling=True), points, spinning)
     assert failed == 1
 
 

@@ -1,4 +1,5 @@
-"""Every contact-law family in the MuJoCo twins: the dynamics twin's force against the law by hand, its motion against analytic results, and the native twin's line per law."""
+"""Every contact-law family in the MuJoCo twins: the dynamics twin's force against the law by hand,
+its motion against analytic results, and the native twin's line per law."""
 import dataclasses
 import math
 

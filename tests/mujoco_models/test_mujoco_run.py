@@ -49,7 +49,8 @@ def test_defaults_come_from_the_mujoco_table():
         "duration": 0.01, "dt": 1e-4, "body": {"shape": "point", "mass": 1.0}, "initial": {"position": [0, 1]},
         "mujoco": {"solref": "physical", "integrator": "RK4", "dt": 5e-4, "cone": "pyramidal"}}, file="<test>")
     tr = simulate_mujoco(scene)
-    assert (tr.integrator, tr.dt, tr.steps, tr.meta["solref_mapping"], tr.meta["cone"]) == ("RK4", 5e-4, 20, "physical", "pyramidal")
+    assert ((tr.integrator, tr.dt, tr.steps, tr.meta["solref_mapping"], tr.meta["cone"])
+            == ("RK4", 5e-4, 20, "physical", "pyramidal"))
     assert any("step: MuJoCo runs dt = 0.0005 s" in s for s in tr.meta["approximations"])
     tr = simulate_mujoco(scene, solref="seed", integrator="Euler", dt=1e-3)
     assert (tr.integrator, tr.dt, tr.steps, tr.meta["solref_mapping"]) == ("Euler", 1e-3, 10, "seed")

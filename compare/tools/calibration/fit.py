@@ -233,7 +233,7 @@ class PNorm(minimize.Norm):
         self.group, self.weight, self.p = group, weight, p    # group: (m,) row -> group; weight per group
 
     @classmethod
-    def of(cls, targets: list[Target], scales) -> "PNorm":
+    def of(cls, targets: list[Target], scales) -> PNorm:
         """The norm for the residual rows make_residual stacks."""
         groups, weights, first = [], [], 0
         for target, scale in zip(targets, scales):

@@ -60,8 +60,10 @@ MISTAKES = (
             "return model.k * d + model.c * max(0.0, -vcy)", "return model.k * d - model.c * vcy"),
     Mistake("explicit_euler_in_disguise", "semi-implicit Euler that moves the position with the old velocity",
             "Algorithm 1, lines 7-8: v <- v + (F/m) dt, then p <- p + v dt", "integrators.py",
-            "        vx += h * ax\n        vy += h * ay\n        om += h * aw\n        x += h * vx\n        y += h * vy\n        theta += h * om\n    else:",
-            "        x += h * vx\n        y += h * vy\n        theta += h * om\n        vx += h * ax\n        vy += h * ay\n        om += h * aw\n    else:"),
+            "        vx += h * ax\n        vy += h * ay\n        om += h * aw\n"
+            "        x += h * vx\n        y += h * vy\n        theta += h * om\n    else:",
+            "        x += h * vx\n        y += h * vy\n        theta += h * om\n"
+            "        vx += h * ax\n        vy += h * ay\n        om += h * aw\n    else:"),
     Mistake("rk4_wrong_node", "RK4 whose third stage is taken at the half step from k3 instead of the full step",
             "Numerical integration: RK4", "integrators.py",
             "ch = (1.0 if s == 2 else 0.5) * h", "ch = 0.5 * h"),
@@ -84,5 +86,6 @@ MISTAKES = (
             "np.array([[0.0, -R]]),\n                              rotates=True, points_rotate=True)"),
     Mistake("rolling_resistance_pushes", "rolling resistance with the wrong sign: it speeds the disk up",
             "Algorithm 4, line 9: tau <- tau + r x F - mu_roll Fn sign(omega)", "forces.py",
-            "            if model.rolling:\n                tau -= roll", "            if model.rolling:\n                tau += roll"),
+            "            if model.rolling:\n                tau -= roll",
+            "            if model.rolling:\n                tau += roll"),
 )

@@ -34,7 +34,7 @@ def machine() -> str:
             versions.append(f"{module} {__import__(module).__version__}")
         except ImportError:
             pass
-    when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    when = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     return (f"{cpu}, {os.cpu_count()} cores, {load}; {platform.system()} {platform.release()}, "
             f"Python {platform.python_version()}, {', '.join(versions)}; {when}")
 

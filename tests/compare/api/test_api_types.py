@@ -180,7 +180,7 @@ def test_compare_identify_is_the_api_function_and_the_package_stays_apart():
 
     assert compare.identify is identify_scenes
     with pytest.raises(AttributeError, match="no attribute 'nothing'"):
-        compare.nothing
+        _ = compare.nothing
 
 
 def test_import_compare_imports_nothing_else():
