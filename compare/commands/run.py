@@ -55,10 +55,20 @@ def add_arguments(parser) -> None:
 
 
 def _load_simulator(args, scenes):
-    """The simulator under test from --sim/--whole/--trajectories (None: custom_sim), its bad
-    input raised before anything is written."""
-    from ..usersim import for_run
-    return for_run(args, scenes)
+    """The simulator under test from --sim/--whole/--trajectories/--sim-process (None:
+    custom_sim), checked on every scene (preflight), its bad input raised before anything is written."""
+    from ..usersim import load_simulator, preflight
+    simulator = load_simulator(args.sim, args.whole, args.trajectories, args.sim_process)
+    if simulator is not None:
+        preflight(simulator, scenes)
+    return simulator
+
+
+def run_config(args):
+    """The RunConfig (compare/run/config.py) of run's flags: where the Namespace stops."""
+    from ..run.config import RunConfig
+    return RunConfig.of(output_folder(args.out).resolve(), args.jobs, args.timeout, getattr(args, "law", None),
+                        cache=not getattr(args, "no_cache", False))
 
 
 def add_timeout(parser) -> None:
@@ -83,20 +93,17 @@ def _run(args) -> int:
     from ..executor import Interrupted
     from ..run.lines import cache_line
 
-    out = output_folder(args.out).resolve()   # before the user's module imports: its chdir cannot move it
-    if getattr(args, "no_cache", False):
-        from ..store import CACHE_ENV
-        os.environ[CACHE_ENV] = "off"
-    if args.timeout is not None and not args.timeout > 0:
+    config = run_config(args)   # before the user's module imports: its chdir cannot move the report
+    if config.timeout is not None and not config.timeout > 0:
         from scene_types import BadInput
-        raise BadInput(f"--timeout {args.timeout:g}: expected a positive number of seconds")
+        raise BadInput(f"--timeout {config.timeout:g}: expected a positive number of seconds")
     scenes = load_all(args.scenes)
     simulator = None
     loader = getattr(args, "load_simulator", None)
     if loader is not None:
         simulator = loader(args, scenes)  # bad input is raised here, before anything is written
     try:
-        judgement = collect(scenes, simulator, out, args.jobs, args.timeout, getattr(args, "law", None))
+        judgement = collect(scenes, simulator, config)
     except Interrupted as exc:
         print(f"interrupted: {'; '.join(exc.where) or 'between two scenarios'}; nothing written", file=sys.stderr)
         return EXIT_INTERRUPTED
@@ -111,6 +118,6 @@ def _run(args) -> int:
     for scene in judgement.scenes:
         if scene.metrics is None:
             print("\n".join(scene.lines))   # each once, with its scene
-    print(cache_line([s.metrics for s in judgement.scenes if s.metrics is not None]), file=sys.stderr)
+    print(cache_line([s.metrics for s in judgement.scenes if s.metrics is not None], config.cache), file=sys.stderr)
     print(f"report: {judgement.report}")
     return judgement.exit_status
