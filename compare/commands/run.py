@@ -14,6 +14,9 @@ from __future__ import annotations
 import os
 import sys
 
+from scene_types.state import STATE_TEXT, UNITS_TEXT
+from scene_types.trajectory import REQUIRED_COLUMNS
+
 from ..cli import EXIT_INTERRUPTED, output_folder
 from ..scenarios import load_all
 
@@ -25,7 +28,7 @@ def add_arguments(parser) -> None:
     user = parser.add_argument_group(
         "the simulator under test (default: custom_sim)",
         "Your own simulator, held to the same checks (docs/validate-your-simulator.md).\n"
-        "state = [x, y, theta, vx, vy, omega] of the centre of mass (m, m, rad, m/s, m/s, rad/s);\n"
+        f"state = {STATE_TEXT} of the centre of mass {UNITS_TEXT};\n"
         "scene = the resolved scene as plain dicts and floats, exactly what\n"
         "`python -m compare scene SCENE --json` prints (mass_properties, contact_points, state0).")
     which = user.add_mutually_exclusive_group()
@@ -41,7 +44,7 @@ def add_arguments(parser) -> None:
                       help="with --sim: FUNCTION is simulate(scene) -> array (steps + 1, 6), row 0 the t = 0 "
                            "state (a 7th column, if any, is the energy in J)")
     which.add_argument("--trajectories", metavar="DIR",
-                       help="precomputed runs DIR/<scene name>.csv, columns by header name: t,x,y,theta,vx,vy,omega "
+                       help=f"precomputed runs DIR/<scene name>.csv, columns by header name: {','.join(REQUIRED_COLUMNS)} "
                             "required (energy optional), first row t = 0, then one row per step of dt")
     user.add_argument("--law", metavar="FILE.toml|identified",
                       help="judge every check under another contact law: a [contact] table laid over each "
