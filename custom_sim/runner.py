@@ -16,7 +16,9 @@ from .energy import energy_parts
 from .integrators import (FORCE_EVALS, INTEGRATORS, NEWTON_FAILS, NEWTON_ITERS, NEWTON_MAX,
                           integrate)
 from .model import build_model, initial_state
+from scene_types.errors import Diverged
 from scene_types.schema import Scene
+from scene_types.state import STATE_COMPONENTS
 from .stability import stable_step
 from scene_types.trajectory import Trajectory
 
@@ -44,7 +46,7 @@ def blowup_guard(scene: Scene, props, z0: np.ndarray, applied_input: bool) -> tu
     return (mass, inertia, g, y_low, limit, POSITION_LIMIT, SPEED_LIMIT)
 
 
-class SimulationDiverged(RuntimeError):
+class SimulationDiverged(Diverged):
     """The state left the healthy range: carries the step, the state and a stable step."""
 
     def __init__(self, scene: Scene, integrator: str, dt: float, step: int, state: np.ndarray):
@@ -88,8 +90,7 @@ def advice(stable_dt, scene: Scene | None = None, integrator: str | None = None)
 
 
 def state_text(state) -> str:
-    names = ("x", "y", "theta", "vx", "vy", "omega")
-    return ", ".join(f"{n}={v:.4g}" for n, v in zip(names, state))
+    return ", ".join(f"{n}={v:.4g}" for n, v in zip(STATE_COMPONENTS, state))
 
 
 def new_watch(props) -> np.ndarray:

@@ -16,6 +16,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
+from scene_types.errors import Diverged
 from scene_types.schema import Scene
 from scene_types.trajectory import Trajectory
 
@@ -32,7 +33,7 @@ WARMUP_STEPS = 200
 FULL_STATE = mujoco.mjtState.mjSTATE_FULLPHYSICS
 
 
-class MujocoDiverged(RuntimeError):
+class MujocoDiverged(Diverged):
     """The twin's state blew up: MuJoCo flagged a bad acceleration (and reset the state), or
     the state left the range the twin's guard allows (guard.py: non-finite, too far, too fast,
     or more energy than the scene ever had). The run is void."""

@@ -1,4 +1,5 @@
-"""Bad input, named where it was found: a scene file's field, a CSV's row, an option's value."""
+"""Bad input, named where it was found: a scene file's field, a CSV's row, an option's value; and
+Diverged, the one base of every run that could not go on."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -23,3 +24,10 @@ class CsvError(ValueError):
 
 class BadInput(ValueError):
     """Bad input that is not a scene file's (an option's value, a user's module): `what: message`."""
+
+
+class Diverged(RuntimeError):
+    """A run that left the healthy range, or a solver that could not follow the motion: the base
+    of custom_sim's SimulationDiverged, mujoco_models' MujocoDiverged, the contact check's
+    NativeDiverged, a user's UserDiverged and the reference's ReferenceFailed, so that one
+    `except Diverged` catches each of them (each keeps its own name and fields)."""

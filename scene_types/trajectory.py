@@ -11,8 +11,9 @@ from pathlib import Path
 import numpy as np
 
 from .errors import CsvError
+from .state import STATE_COMPONENTS
 
-CSV_COLUMNS = ("t", "x", "y", "theta", "vx", "vy", "omega", "energy")
+CSV_COLUMNS = ("t", *STATE_COMPONENTS, "energy")
 REQUIRED_COLUMNS = CSV_COLUMNS[:7]   # energy (and any other column) is optional when reading
 CSV_FORMAT = "%.10g"                 # 10 significant digits: a relative rounding of at most 5e-10
 CSV_RELATIVE_ROUNDING = 5e-10        # what a write-then-read round trip may change, relative
@@ -58,8 +59,8 @@ class Trajectory:
         return len(self.t) - 1
 
     def states(self) -> np.ndarray:
-        """(steps + 1, 6) array of x, y, theta, vx, vy, omega."""
-        return np.column_stack([self.x, self.y, self.theta, self.vx, self.vy, self.omega])
+        """(steps + 1, 6) array of the STATE_COMPONENTS (scene_types/state.py), in their order."""
+        return np.column_stack([getattr(self, c) for c in STATE_COMPONENTS])
 
 
 def csv_text(traj: Trajectory) -> str:

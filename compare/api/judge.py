@@ -26,26 +26,27 @@ def scene_specs(scenes) -> list[str] | None:
     return specs
 
 
-def collect(scenes, simulator, out: Path, jobs: int, timeout: float | None, law: str | None = None) -> Judgement:
-    """`run`'s pipeline once its input is read: the scenes under `law`, every scene judged in a
-    process of its own, the report written whole into `out`. Raises bad input (nothing written)
-    and Interrupted (Ctrl-C) as `run` reports them."""
+def collect(scenes, simulator, config) -> Judgement:
+    """`run`'s pipeline once its input is read: the scenes under config.law, every scene judged in
+    a process of its own (config: compare/run/config.py), the report written whole into
+    config.out. Raises bad input (nothing written) and Interrupted (Ctrl-C) as `run` reports them."""
     from ..run.report import write_report
     from ..run.warm_up import compile_everything
+    from ..store import Cache, trim, using
 
-    if law:
-        from ..run.law import under_law
-        scenes = under_law(scenes, law, simulator)
-    compile_everything()
-    written = write_report(scenes, simulator, out, jobs, timeout)
+    with using(Cache(config.cache)):   # this process's scene-only work too (identify's, under --law)
+        if config.law:
+            from ..run.law import under_law
+            scenes = under_law(scenes, config.law, simulator)
+        compile_everything(config.cache)
+        written = write_report(scenes, simulator, config)
     if written.failed or any(r.get("cache", {}).get("misses") for r in written.rows):   # the cache may have grown
-        from ..store import trim
-        trim()
+        trim(config.cache)
     return Judgement.of_report(written.rows, written.failed, written.details, written.index)
 
 
 def judge(sim=None, scenes=None, *, law: str | None = None, whole: bool = False, out=None,
-          jobs: int | None = None, timeout: float | None = None) -> Judgement:
+          jobs: int | None = None, timeout: float | None = None, cache: bool = True) -> Judgement:
     """Judge a simulator as `python -m compare run --sim SIM` does, and return the Judgement.
 
     sim: "MODULE:FUNCTION", a function (step(state, scene, dt) -> state; with whole=True
@@ -53,9 +54,11 @@ def judge(sim=None, scenes=None, *, law: str | None = None, whole: bool = False,
     scenes: a built-in name or a .toml path, or a list of them (None: every built-in).
     law: "identified" or a law file's path (run --law). out: a folder for the report `run --out`
     writes (None: nothing is written; the work goes into a temporary folder, removed after).
-    jobs: scenes at once (default every core); timeout: s per scene. Bad input raises
+    jobs: scenes at once (default every core); timeout: s per scene; cache=False recomputes the
+    scene-only work (run --no-cache; CONTACT_HARNESS_CACHE=off does too). Bad input raises
     compare.BadInput (or SceneError) naming what was wrong, before anything is written."""
     from ..files import output_folder
+    from ..run.config import RunConfig
     from ..scenarios import load_all
     from ..usersim import preflight
     from .subject import simulator_of
@@ -70,10 +73,10 @@ def judge(sim=None, scenes=None, *, law: str | None = None, whole: bool = False,
         preflight(simulator, scene_list)
     jobs = jobs or os.cpu_count() or 1
     if folder is not None:
-        return collect(scene_list, simulator, folder, jobs, timeout, law)
+        return collect(scene_list, simulator, RunConfig.of(folder, jobs, timeout, law, cache))
     work = Path(tempfile.mkdtemp(prefix="contact-judge-"))
     try:
-        judgement = collect(scene_list, simulator, work / "report", jobs, timeout, law)
+        judgement = collect(scene_list, simulator, RunConfig.of(work / "report", jobs, timeout, law, cache))
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return Judgement(judgement.scenes, judgement.details, None)

@@ -87,7 +87,7 @@ class Case:
 
     def reference(self):
         """The converged reference (oracle.reference.solve_reference) at the scene's step.
-        Raises its ReferenceError."""
+        Raises its ReferenceFailed."""
         from ..oracle.reference import solve_reference
         scene = self.scene
         return self._once(("reference",), lambda: cached(solve_reference)(scene, np.arange(scene.steps + 1) * scene.dt))
@@ -116,5 +116,5 @@ def _mujoco_diverged():
 
 
 def _no_reference():
-    from ..oracle.reference import ReferenceError
-    return ReferenceError
+    from ..oracle.reference import ReferenceFailed
+    return ReferenceFailed

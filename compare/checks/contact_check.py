@@ -35,7 +35,7 @@ from custom_sim.bodies import contact_points_world
 from scene_types.integrators import SAME_UPDATE
 
 from ..store import cached
-from ..oracle.reference import ReferenceError as NoReference
+from ..oracle.reference import ReferenceFailed as NoReference
 from .case import as_case
 from .impedance import NativeDiverged, native_run
 from .row import CheckRow

@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from custom_sim import Scene, Trajectory
+from scene_types.state import POSE
 
 REST_SPEED = 1e-2          # m/s: slower than this (and REST_SPIN) until the end counts as at rest
 REST_SPIN = 0.1            # rad/s
@@ -87,7 +88,7 @@ def events(scene: Scene, traj: Trajectory) -> dict:
         "bounce_apex_heights": [y for _, y in apexes[:10]],
         "restitution": restitutions(traj)[:10],
         "rest_time": rest_time(traj),
-        "final_pose": {"x": float(traj.x[-1]), "y": float(traj.y[-1]), "theta": float(traj.theta[-1])},
+        "final_pose": {c: float(getattr(traj, c)[-1]) for c in POSE},
     }
     if scene.body.shape == "circle":
         out["rolling_time"] = rolling_time(traj, scene.body.radius)

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged
+from scene_types.state import STATE_COMPONENTS
 
 from .case import as_case
 from ..oracle.one_step import Rounding
@@ -97,8 +98,7 @@ def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt
     first = int(over[0]) if over.size else None
     comp = None
     if first is not None:
-        names = ("x", "y", "theta", "vx", "vy", "omega")
-        comp = names[int(np.argmax(np.abs(diff[first]) / np.maximum(np.abs(ours).max(axis=0), 1e-300)))]
+        comp = STATE_COMPONENTS[int(np.argmax(np.abs(diff[first]) / np.maximum(np.abs(ours).max(axis=0), 1e-300)))]
     return _row(
         integrator, envelope.reason + said,
         position_error_max=float(dpos.max()), angle_error_max=float(dang.max()),

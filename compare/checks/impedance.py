@@ -24,6 +24,7 @@ from mujoco import rollout
 
 from custom_sim import Scene
 from custom_sim.bodies import contact_points_world
+from scene_types.errors import Diverged
 
 from mujoco_models.frames import states_from_q
 from mujoco_models.geometry import CONTACT_SPHERE_RADIUS
@@ -70,7 +71,7 @@ class MappingError:
                 "force_residual": self.force_check}
 
 
-class NativeDiverged(RuntimeError):
+class NativeDiverged(Diverged):
     """MuJoCo's native twin met a bad acceleration or left finite numbers."""
 
 

@@ -4,8 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from custom_sim import Trajectory
-
-STATE = ("x", "y", "theta", "vx", "vy", "omega")
+from scene_types.state import STATE_COMPONENTS as STATE
 
 
 def resample(traj: Trajectory, t: np.ndarray) -> dict[str, np.ndarray]:

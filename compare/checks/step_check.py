@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scene_types.state import STATE_COMPONENTS, STATE_UNITS, UNIT_OF
+
 from compare.oracle.force_law import SEED_LAW, Law, contact_state
 from compare.oracle.reference import Equations
 
@@ -21,9 +23,7 @@ from ..oracle.one_step import (FORCE_ULPS, IMPLICIT_SOLVE_TOL, INPUT_ROUNDING_SA
                        Rounding, jump_defect, one_step, undecided)
 from .row import CheckRow
 
-COMPONENTS = ("x", "y", "theta", "vx", "vy", "omega")
-UNITS = ("m", "m", "rad", "m/s", "m/s", "rad/s")   # of each component
-UNIT_OF = dict(zip(COMPONENTS, UNITS))
+COMPONENTS, UNITS = STATE_COMPONENTS, STATE_UNITS   # the state's, named once in scene_types/state.py
 ISOLATES = "one step of the integrator from each state, against an independent right-hand side"
 # Rows per array operation: bounds the memory of a million-step trajectory (a box's 4 points
 # make about 20 temporaries of rows x 4 doubles) without costing speed.

@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import sys
 
+from scene_types.trajectory import REQUIRED_COLUMNS
+
 
 def add_arguments(parser) -> None:
     parser.add_argument("targets", nargs="*", metavar="MODULE:FUNCTION [SCENE ...]",
@@ -33,7 +35,7 @@ def add_arguments(parser) -> None:
     which.add_argument("--whole", action="store_true",
                        help="FUNCTION is simulate(scene) -> array (steps + 1, 6): regression over its run")
     which.add_argument("--trajectories", metavar="DIR",
-                       help="DIR/<scene>.csv (t,x,y,theta,vx,vy,omega): regression over each file's steps")
+                       help=f"DIR/<scene>.csv ({','.join(REQUIRED_COLUMNS)}): regression over each file's steps")
     which.add_argument("--sim-process", metavar="COMMAND",
                        help="a step function in any language on stdin/stdout (docs/process-protocol.md): "
                             "designed probes as for a Python step; then scenes only")

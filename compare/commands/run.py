@@ -14,6 +14,9 @@ from __future__ import annotations
 import os
 import sys
 
+from scene_types.state import STATE_TEXT, UNITS_TEXT
+from scene_types.trajectory import REQUIRED_COLUMNS
+
 from ..cli import EXIT_INTERRUPTED
 from ..files import output_folder
 from ..scenarios import load_all
@@ -26,7 +29,7 @@ def add_arguments(parser) -> None:
     user = parser.add_argument_group(
         "the simulator under test (default: custom_sim)",
         "Your own simulator, held to the same checks (docs/validate-your-simulator.md).\n"
-        "state = [x, y, theta, vx, vy, omega] of the centre of mass (m, m, rad, m/s, m/s, rad/s);\n"
+        f"state = {STATE_TEXT} of the centre of mass {UNITS_TEXT};\n"
         "scene = the resolved scene as plain dicts and floats, exactly what\n"
         "`python -m compare scene SCENE --json` prints (mass_properties, contact_points, state0).")
     which = user.add_mutually_exclusive_group()
@@ -42,7 +45,7 @@ def add_arguments(parser) -> None:
                       help="with --sim: FUNCTION is simulate(scene) -> array (steps + 1, 6), row 0 the t = 0 "
                            "state (a 7th column, if any, is the energy in J)")
     which.add_argument("--trajectories", metavar="DIR",
-                       help="precomputed runs DIR/<scene name>.csv, columns by header name: t,x,y,theta,vx,vy,omega "
+                       help=f"precomputed runs DIR/<scene name>.csv, columns by header name: {','.join(REQUIRED_COLUMNS)} "
                             "required (energy optional), first row t = 0, then one row per step of dt")
     user.add_argument("--law", metavar="FILE.toml|identified",
                       help="judge every check under another contact law: a [contact] table laid over each "
@@ -56,10 +59,20 @@ def add_arguments(parser) -> None:
 
 
 def _load_simulator(args, scenes):
-    """The simulator under test from --sim/--whole/--trajectories (None: custom_sim), its bad
-    input raised before anything is written."""
-    from ..usersim import for_run
-    return for_run(args, scenes)
+    """The simulator under test from --sim/--whole/--trajectories/--sim-process (None:
+    custom_sim), checked on every scene (preflight), its bad input raised before anything is written."""
+    from ..usersim import load_simulator, preflight
+    simulator = load_simulator(args.sim, args.whole, args.trajectories, args.sim_process)
+    if simulator is not None:
+        preflight(simulator, scenes)
+    return simulator
+
+
+def run_config(args):
+    """The RunConfig (compare/run/config.py) of run's flags: where the Namespace stops."""
+    from ..run.config import RunConfig
+    return RunConfig.of(output_folder(args.out).resolve(), args.jobs, args.timeout, getattr(args, "law", None),
+                        cache=not getattr(args, "no_cache", False))
 
 
 def add_timeout(parser) -> None:
@@ -84,20 +97,17 @@ def _run(args) -> int:
     from ..executor import Interrupted
     from ..run.lines import cache_line
 
-    out = output_folder(args.out).resolve()   # before the user's module imports: its chdir cannot move it
-    if getattr(args, "no_cache", False):
-        from ..store import CACHE_ENV
-        os.environ[CACHE_ENV] = "off"
-    if args.timeout is not None and not args.timeout > 0:
+    config = run_config(args)   # before the user's module imports: its chdir cannot move the report
+    if config.timeout is not None and not config.timeout > 0:
         from scene_types import BadInput
-        raise BadInput(f"--timeout {args.timeout:g}: expected a positive number of seconds")
+        raise BadInput(f"--timeout {config.timeout:g}: expected a positive number of seconds")
     scenes = load_all(args.scenes)
     simulator = None
     loader = getattr(args, "load_simulator", None)
     if loader is not None:
         simulator = loader(args, scenes)  # bad input is raised here, before anything is written
     try:
-        judgement = collect(scenes, simulator, out, args.jobs, args.timeout, getattr(args, "law", None))
+        judgement = collect(scenes, simulator, config)
     except Interrupted as exc:
         print(f"interrupted: {'; '.join(exc.where) or 'between two scenarios'}; nothing written", file=sys.stderr)
         return EXIT_INTERRUPTED
@@ -116,6 +126,6 @@ def _run(args) -> int:
                 print(f"{scene.name}: " + traces.pop(scene.name), file=sys.stderr)
     for name, text in traces.items():   # raised inside a scene that still reached a verdict
         print(f"{name}: {text}", file=sys.stderr)
-    print(cache_line([s.metrics for s in judgement.scenes if s.metrics is not None]), file=sys.stderr)
+    print(cache_line([s.metrics for s in judgement.scenes if s.metrics is not None], config.cache), file=sys.stderr)
     print(f"report: {judgement.report}")
     return judgement.exit_status

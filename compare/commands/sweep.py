@@ -72,9 +72,9 @@ def user_simulator(args, scenes):
     sweep's to report)."""
     import dataclasses
 
-    from ..usersim import UserFault, from_args, preflight
+    from ..usersim import UserFault, load_simulator, preflight
 
-    simulator = from_args(args)
+    simulator = load_simulator(args.sim, args.whole, process=args.sim_process)
     if simulator is not None:
         preflight(simulator, scenes)
     if getattr(args, "law", None):

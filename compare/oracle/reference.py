@@ -9,7 +9,7 @@ The scene's law (scene_types.laws) is written here, independently, in plain Pyth
 with the geometry of compare/oracle/rigid_body.py. The motion is cut into modes at every switch
 (touch, the normal law's kinks, the ramp's kinks, the sign friction's stick or slide, the sign
 of omega), each integrated by DOP853 at a tight tolerance, each switch a located event;
-ReferenceError where the motion enters a sliding mode not modelled (two points stuck at once).
+ReferenceFailed where the motion enters a sliding mode not modelled (two points stuck at once).
 Derivation: docs/oracle-laws.md#the-reference-modes-and-switches.
 """
 from __future__ import annotations
@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from scene_types import Scene
+from scene_types import Diverged, Scene
 
 from .rigid_body import RigidBody, rigid_body
 
@@ -73,7 +73,7 @@ COMPRESSION, LINEAR, UNCLAMPED, HUNT_CROSSLEY = "compression", "linear", "unclam
 TANH, RAMP, SMOOTH_COULOMB, SIGN = "tanh", "ramp", "smooth_coulomb", "sign"
 
 
-class ReferenceError(RuntimeError):
+class ReferenceFailed(Diverged):
     """The reference solver cannot follow this motion (sliding mode, solver failure); t: the
     time (s) it stopped at, when known."""
 
@@ -270,7 +270,7 @@ def mode_forces(eq: Equations, mode: Mode):
     slide = mode.slide or (0,) * len(eq.points)
     stuck = [i for i in idx if eq.coulomb and slide[i] == 0]
     if len(stuck) > 1:
-        raise ReferenceError(two_stuck_reason(stuck))
+        raise ReferenceFailed(two_stuck_reason(stuck))
     held = stuck[0] if stuck else -1
     normal, friction = _normal_law(eq, mode.active), _friction_law(eq, slide, held)
     spin, sharp = float(mode.spin), eq.roll_sharpness
@@ -430,7 +430,7 @@ def stick_or_slide(eq: Equations, mode: Mode, z, points) -> Mode:
     """The mode whose sign-friction pieces of `points` (slips at zero, or stuck) agree with the
     forces they make (_agrees), each piece tried stuck first, then sliding either way. The
     friction's monotone law makes the slips' rates unique, so one assignment agrees; where only
-    one with two points stuck could, ReferenceError (not modelled)."""
+    one with two points stuck could, ReferenceFailed (not modelled)."""
     for pieces in itertools.product((0, 1, -1), repeat=len(points)):
         if pieces.count(0) > 1:
             continue
@@ -440,7 +440,7 @@ def stick_or_slide(eq: Equations, mode: Mode, z, points) -> Mode:
         trial = dataclasses.replace(mode, slide=tuple(slide))
         if _agrees(eq, trial, z, points):
             return trial
-    raise ReferenceError(two_stuck_reason(points))
+    raise ReferenceFailed(two_stuck_reason(points))
 
 
 def _sign_slides(eq: Equations, mode: Mode, z, tag, entered) -> tuple[int, ...]:
@@ -632,7 +632,7 @@ def initial_state(scene: Scene) -> np.ndarray:
 def solve_reference(scene: Scene, t_eval, rtol: float = REFERENCE_RTOL,
                     atol: float = REFERENCE_ATOL, method: str = "DOP853") -> ReferenceSolution:
     """Integrate the scene from t = 0 to t_eval[-1] mode by mode; states and works at t_eval
-    (s, sorted). Raises ReferenceError (with the time it stopped at) where the motion enters a
+    (s, sorted). Raises ReferenceFailed (with the time it stopped at) where the motion enters a
     sliding mode this reference does not model."""
     start = time.perf_counter()
     eq = Equations.from_scene(scene)
@@ -642,8 +642,8 @@ def solve_reference(scene: Scene, t_eval, rtol: float = REFERENCE_RTOL,
     t = 0.0
     try:
         mode = initial_mode(eq, z)
-    except ReferenceError as exc:
-        raise ReferenceError(f"{scene.name}: at t = 0 s: {exc}", t=0.0) from None
+    except ReferenceFailed as exc:
+        raise ReferenceFailed(f"{scene.name}: at t = 0 s: {exc}", t=0.0) from None
     out = np.empty((len(t_eval), 9))
     done = 0
     if t_eval[0] == 0.0:
@@ -661,7 +661,7 @@ def solve_reference(scene: Scene, t_eval, rtol: float = REFERENCE_RTOL,
                         events=events or None, rtol=rtol, atol=atol, max_step=max_step(eq, mode),
                         first_step=first_step(eq, t, t_end))
         if sol.status < 0:
-            raise ReferenceError(f"{scene.name}: {method} failed at t = {t:.6g} s: {sol.message}", t=t)
+            raise ReferenceFailed(f"{scene.name}: {method} failed at t = {t:.6g} s: {sol.message}", t=t)
         nfev += sol.nfev
         segments += 1
         n = len(sol.t)
@@ -676,18 +676,18 @@ def solve_reference(scene: Scene, t_eval, rtol: float = REFERENCE_RTOL,
         z = np.array(sol.y_events[j][0], dtype=float)
         try:
             before, mode = mode, flip(eq, mode, tags[j], z)
-        except ReferenceError as exc:
-            raise ReferenceError(f"{scene.name}: at t = {t:.6g} s: {exc}", t=t) from None
+        except ReferenceFailed as exc:
+            raise ReferenceFailed(f"{scene.name}: at t = {t:.6g} s: {exc}", t=t) from None
         z[6] += unclamped_spring(eq, before, mode, z)
         switches[tags[j][0]] += 1
         recent = [s for s in recent if t - s < ZENO_WINDOW] + [t]
         if len(recent) > ZENO_EVENTS:
-            raise ReferenceError(
+            raise ReferenceFailed(
                 f"{scene.name}: {len(recent)} switches within {ZENO_WINDOW:g} s near t = {t:.6g} s "
                 f"(the state is held on a switching surface, a sliding mode this reference does not model)",
                 t=t)
     if done != len(t_eval):
-        raise ReferenceError(f"{scene.name}: reference stopped after {done} of {len(t_eval)} output times", t=t)
+        raise ReferenceFailed(f"{scene.name}: reference stopped after {done} of {len(t_eval)} output times", t=t)
     return ReferenceSolution(t=t_eval, states=out[:, :6].copy(), work=out[:, 6:].copy(), rtol=rtol,
                              atol=atol, method=method, nfev=nfev, segments=segments, switches=switches,
                              wall_time=time.perf_counter() - start)

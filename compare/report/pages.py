@@ -10,6 +10,7 @@ import shutil
 from pathlib import Path
 
 from scene_types import csv_text, write_csv
+from scene_types.state import POSE, UNIT_OF
 
 from ..files import finite_json, temporary_folder, write_text_atomically
 
@@ -253,7 +254,7 @@ def _event_rows(ev_c: dict, ev_m: dict) -> list[list[str]]:
         return ", ".join(format(v, spec) for v in values[:4]) or DASH
 
     def pose(p):
-        return f"{p['x']:.4f} m, {p['y']:.4f} m, {p['theta']:.4f} rad"
+        return ", ".join(f"{p[c]:.4f} {UNIT_OF[c]}" for c in POSE)
     rows = [["first contact (s)", _num(ev_c["first_contact_time"]), _num(ev_m["first_contact_time"])],
             ["bounce apex heights (m)", listed(ev_c["bounce_apex_heights"], ".4f"),
              listed(ev_m["bounce_apex_heights"], ".4f")],

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from custom_sim import Scene, Trajectory
+from scene_types.state import POSE
 
 from .drawing import outlines
 from ..checks.step_check import COMPONENTS
@@ -86,7 +87,7 @@ def draw_all(figures: dict, warnings: list) -> dict:
 def states(scene: Scene, shown: tuple[Trajectory, ...], path: Path, reference=None) -> str:
     """x, y, theta against time; reference: the converged reference's states (steps + 1, 6)."""
     fig, axes = frame("states")
-    for j, (ax, name) in enumerate(zip(axes, ("x", "y", "theta"))):
+    for j, (ax, name) in enumerate(zip(axes, POSE)):
         for tr in shown:
             y = getattr(tr, name)
             k = _envelope(y)

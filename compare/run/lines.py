@@ -2,6 +2,8 @@
 component and value in m, rad or per step, or not judged), and one line on the cache."""
 from __future__ import annotations
 
+from pathlib import Path
+
 
 def _number(value, unit: str) -> str:
     return "–" if value is None else f"{value:.3e} {unit}"
@@ -64,11 +66,9 @@ def no_verdict_line(name: str, status: str, why: str) -> str:
     return f"{name:<20} skipped  {why}" if status == "skipped" else f"{name:<20} {status}: {why}"
 
 
-def cache_line(rows: list[dict]) -> str:
-    """What came from the cache of scene-only work (compare/store.py), in one line."""
-    from ..store import folder
-
-    where = folder()
+def cache_line(rows: list[dict], where: Path | None) -> str:
+    """What came from the cache of scene-only work (compare/store.py) in the folder `where`
+    (None: off), in one line."""
     if where is None:
         return "cache: off (scene-only work computed)"
     hits = sum(r["cache"]["hits"] for r in rows if "cache" in r)

@@ -1,6 +1,6 @@
 """`run`'s report, written whole: every scenario judged into a hidden folder beside DIR, then
 index.md, then moved into place (compare/report/publish.py); bad input from the user's code, or
-Ctrl-C, leaves DIR as it was. `timeout` is in s."""
+Ctrl-C, leaves DIR as it was. What the run is asked to do: a RunConfig (config.py)."""
 from __future__ import annotations
 
 import functools
@@ -10,6 +10,7 @@ from pathlib import Path
 from ..report import write_index
 from ..report.publish import report_aside
 from ..usersim import UserCodeError
+from .config import RunConfig
 from .outcome import run_one
 from .processes import expected_cost, run_scenes
 
@@ -24,12 +25,14 @@ class Written:
     index: Path            # DIR/index.md
 
 
-def write_report(scenes, simulator, out: Path, jobs: int, timeout: float | None) -> Written:
-    """Runs every scene (at most `jobs` at once) and writes out/; raises UserCodeError for the
-    first bad input a scenario's process sent back, and Interrupted on Ctrl-C."""
+def write_report(scenes, simulator, config: RunConfig) -> Written:
+    """Runs every scene (at most config.jobs at once, each stopped after config.timeout s) and
+    writes config.out/; raises UserCodeError for the first bad input a scenario's process sent
+    back, and Interrupted on Ctrl-C."""
+    out = config.out
     with report_aside(out) as work:
-        outcomes = run_scenes(scenes, functools.partial(run_one, out=str(work), simulator=simulator),
-                              jobs, timeout, expected_cost)
+        outcomes = run_scenes(scenes, functools.partial(run_one, out=str(work), simulator=simulator, config=config),
+                              config.jobs, config.timeout, expected_cost)
         bad = [o.bad_input for o in outcomes.values() if o.bad_input]
         if bad:
             raise UserCodeError(*bad[0])

@@ -244,7 +244,7 @@ def reference_balance(case: Case):
     from ..energy.balance import Balance
     from ..energy.terms import energy
     from ..energy.law import body_of
-    from ..oracle.reference import ReferenceError as NoReference
+    from ..oracle.reference import ReferenceFailed as NoReference
     try:
         ref = case.reference()
     except NoReference:
@@ -337,12 +337,12 @@ def reference_rows(case: Case, tested: dict, runs: dict,
     test, beside custom_sim's for the same integrator (shown, not judged); and the reference's
     states. For custom_sim (own_model) the difference is the integrator's error at this dt; for
     another simulator it is model and integration together."""
-    from ..oracle.reference import ReferenceError
+    from ..oracle.reference import ReferenceFailed
 
     rows = []
     try:
         ref = case.reference()
-    except ReferenceError as exc:
+    except ReferenceFailed as exc:
         return [CheckRow("reference", "accuracy at this dt", reason=f"no converged reference: {exc}")], None
     for name, run in tested.items():
         if isinstance(run, str):

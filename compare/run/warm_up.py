@@ -3,16 +3,20 @@ numba's compiled loops, the checks' and the report's modules, the report's figur
 cache of scene-only work opened."""
 from __future__ import annotations
 
+import functools
+from pathlib import Path
+
 from custom_sim.compile_cache import warm_up_in_parallel
 
 
-def prepare_workers() -> None:
+def prepare_workers(cache: Path | None = None) -> None:
     """What every worker needs before its first scenario, done once here so that the forked
-    workers inherit it: the dynamics twin's compiled passive-force callback, and the modules of
-    the checks and the report (matplotlib, scipy, mujoco: a second or more a process)."""
+    workers inherit it: the cache in the folder `cache` opened (None: off), the dynamics twin's
+    compiled passive-force callback, and the modules of the checks and the report (matplotlib,
+    scipy, mujoco: a second or more a process)."""
     import compare.report  # noqa: F401
     from ..store import prepare
-    prepare()   # joblib and the code's digest, once
+    prepare(cache)   # joblib and the code's digest, once
     compare.report.prebuild_figures()   # each figure's axes and ticks, built once for every worker
     import compare.checks.attribution  # noqa: F401
     import compare.run.scenario  # noqa: F401
@@ -24,9 +28,9 @@ def prepare_workers() -> None:
     callback()
 
 
-def compile_everything() -> None:
+def compile_everything(cache: Path | None = None) -> None:
     """Compile once, before the workers start, so that they load numba's cache instead of each
     compiling the same code: custom_sim's two stepping loops at once, in this process and a
-    forked one, and here, meanwhile, what prepare_workers does. Prints "compiling the
+    forked one, and here, meanwhile, what prepare_workers(cache) does. Prints "compiling the
     simulator (first run only) ..." when it has to."""
-    warm_up_in_parallel(meanwhile=prepare_workers)
+    warm_up_in_parallel(meanwhile=functools.partial(prepare_workers, cache))

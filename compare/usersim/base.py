@@ -8,11 +8,12 @@ import numpy as np
 
 from custom_sim import INTEGRATORS, Scene
 from custom_sim.model import initial_state
+from scene_types.state import STATE_TEXT
 
 from ..oracle.one_step import Rounding
 from .errors import SceneSkipped, UserCodeError
 
-STATE = "[x, y, theta, vx, vy, omega]"
+STATE = STATE_TEXT   # "[x, y, theta, vx, vy, omega]", in messages
 # The CSV's t = 0 row must be the scene's initial state to this relative precision (or
 # absolute, m and m/s, near zero): six significant digits, the least any writer keeps.
 INITIAL_STATE_RTOL = 1e-6

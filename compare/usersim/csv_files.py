@@ -15,6 +15,8 @@ import numpy as np
 
 from custom_sim import Scene
 from custom_sim.model import initial_state
+from scene_types.state import STATE_COMPONENTS
+from scene_types.trajectory import REQUIRED_COLUMNS
 
 from ..oracle.one_step import Rounding
 from .base import UserRun, _check_initial, _Simulator, declared_integrator
@@ -25,7 +27,7 @@ from .errors import UserCodeError
 TIME_GRID_TOLERANCE = 0.01
 
 
-STATE_COLUMNS = ("x", "y", "theta", "vx", "vy", "omega")
+STATE_COLUMNS = STATE_COMPONENTS
 # Rows read to find how a file was written: its first and last SAMPLE_ROWS (a %g writer drops
 # trailing zeros, so the most digits any sampled cell shows is the writer's count).
 SAMPLE_ROWS = 200
@@ -165,10 +167,10 @@ class TrajectoryFiles(_Simulator):
             cols = read_csv(path, text=text)
         except ValueError as exc:  # CsvError: file, row or column, what was expected
             raise UserCodeError(str(exc)) from None
-        missing = [c for c in ("t", "x", "y", "theta", "vx", "vy", "omega") if c not in cols]
+        missing = [c for c in REQUIRED_COLUMNS if c not in cols]
         if missing:
             raise UserCodeError(f"{path}: header: missing column {', '.join(missing)} "
-                                "(expected t,x,y,theta,vx,vy,omega; energy optional)")
+                                f"(expected {','.join(REQUIRED_COLUMNS)}; energy optional)")
         t = cols["t"]
         n, dt = scene.steps, scene.dt
         slack = TIME_GRID_TOLERANCE * dt

@@ -9,7 +9,7 @@ import sysconfig
 import traceback
 from pathlib import Path
 
-from scene_types import BadInput
+from scene_types import BadInput, Diverged
 
 _HARNESS = [str(Path(__file__).resolve().parents[2] / pkg) for pkg in ("compare", "custom_sim", "mujoco_models")]
 _LIBRARIES = sorted({str(Path(p).resolve()) for key in ("stdlib", "platstdlib", "purelib", "platlib")
@@ -53,7 +53,7 @@ def not_implemented(exc: NotImplementedError, step: int | None = None) -> SceneS
     return SceneSkipped(reason if step is None or step <= 1 else f"{reason} (raised at step {step})")
 
 
-class UserDiverged(UserFault):
+class UserDiverged(UserFault, Diverged):
     """The user's run left the healthy range (custom_sim's blow-up test): the scene is unstable."""
 
 

@@ -24,8 +24,7 @@ from .base import UserRun
 from .csv_files import TrajectoryFiles
 from .errors import UserCodeError
 from .functions import StepFunction, WholeFunction
-__all__ = ["StepFunction", "TrajectoryFiles", "UserRun", "WholeFunction", "for_run", "from_args",
-           "load_simulator", "preflight"]
+__all__ = ["StepFunction", "TrajectoryFiles", "UserRun", "WholeFunction", "load_simulator", "preflight"]
 
 
 def preflight(simulator, scenes) -> None:
@@ -37,15 +36,6 @@ def preflight(simulator, scenes) -> None:
         simulator.integrator_for(scene)
         if simulator.kind == "trajectories":
             simulator.run(scene)
-
-
-def for_run(args, scenes):
-    """run's hook (args.load_simulator): the simulator its flags name, checked on every scene
-    before anything is written (preflight); None for custom_sim."""
-    simulator = from_args(args)
-    if simulator is not None:
-        preflight(simulator, scenes)
-    return simulator
 
 
 def load_simulator(spec: str | None = None, whole: bool = False, trajectories: str | None = None,
@@ -68,9 +58,3 @@ def load_simulator(spec: str | None = None, whole: bool = False, trajectories: s
             raise UserCodeError("--whole: expected it with --sim MODULE:FUNCTION")
         return None
     return WholeFunction(spec) if whole else StepFunction(spec)
-
-
-def from_args(args):
-    """load_simulator from run's parsed flags (--sim, --whole, --trajectories, --sim-process)."""
-    return load_simulator(getattr(args, "sim", None), getattr(args, "whole", False),
-                          getattr(args, "trajectories", None), getattr(args, "sim_process", None))

@@ -18,13 +18,10 @@ from compare.run.scenario import run_scenario
 
 @pytest.fixture
 def cache_on(tmp_path, monkeypatch):
+    """A cache of its own, in use for the test's work (and the user's setting, for `run`'s)."""
     monkeypatch.setenv(store.CACHE_ENV, str(tmp_path / "cache"))
-    store._memory.cache_clear()
-    store._cached_call.cache_clear()
-    monkeypatch.setattr(store, "_counts", {"hits": 0, "misses": 0})
-    yield tmp_path / "cache"
-    store._memory.cache_clear()
-    store._cached_call.cache_clear()
+    with store.using(store.Cache(tmp_path / "cache")) as cache:
+        yield cache
 
 
 def judged(scene) -> str:
@@ -38,10 +35,10 @@ def judged(scene) -> str:
 def test_a_second_run_takes_the_scene_only_work_from_the_cache(cache_on):
     scene = dataclasses.replace(load("point_drop"), duration=0.4)
     first = judged(scene)
-    computed = store.counts()
+    computed = cache_on.counts()
     assert computed["misses"] > 0 and computed["hits"] == 0, computed
     second = judged(scene)
-    after = store.counts()
+    after = cache_on.counts()
     assert after["misses"] == computed["misses"], "the second run computed scene-only work again"
     assert after["hits"] >= computed["misses"]
     assert second == first
@@ -50,9 +47,9 @@ def test_a_second_run_takes_the_scene_only_work_from_the_cache(cache_on):
 def test_another_law_is_another_key(cache_on):
     scene = dataclasses.replace(load("point_drop"), duration=0.2)
     judged(scene)
-    before = store.counts()["misses"]
+    before = cache_on.misses
     judged(dataclasses.replace(scene, contact=dataclasses.replace(scene.contact, mu=0.4)))
-    assert store.counts()["misses"] > before
+    assert cache_on.misses > before
 
 
 def test_run_says_where_the_scene_only_work_came_from(cache_on, tmp_path, capsys):
@@ -95,30 +92,30 @@ def test_a_mutated_copy_of_custom_sim_is_another_code(tmp_path):
 def test_the_cache_is_trimmed_to_its_limit(cache_on, monkeypatch):
     scene = dataclasses.replace(load("point_drop"), duration=0.2)
     judged(scene)
-    size = sum(p.stat().st_size for p in cache_on.rglob("*") if p.is_file())
+    size = sum(p.stat().st_size for p in cache_on.where.rglob("*") if p.is_file())
     assert size > 100_000
     monkeypatch.setattr(store, "CACHE_BYTES", size // 4)
-    store.trim()
-    assert sum(p.stat().st_size for p in cache_on.rglob("*") if p.is_file()) <= size // 4
+    store.trim(cache_on.where)
+    assert sum(p.stat().st_size for p in cache_on.where.rglob("*") if p.is_file()) <= size // 4
 
 
 def test_a_users_rerun_computes_only_what_depends_on_their_simulator(cache_on, tmp_path, monkeypatch):
     """A second run of a user's simulator takes every scene-only result from the cache: custom_sim's
     and MuJoCo's runs and the reference, their CSV files and energy balances; the files written
     are the first run's, byte for byte, the user's own CSV (computed again) included."""
-    import argparse
     import functools
     from pathlib import Path
 
     from compare.run import scenario
+    from compare.run.config import RunConfig
     from compare.run.outcome import run_one
     from compare.report import pages
-    from compare.usersim import for_run
+    from compare.usersim import load_simulator
 
     root = Path(__file__).resolve().parents[2]
     scene = dataclasses.replace(load("point_drop"), duration=0.3)
-    simulator = for_run(argparse.Namespace(sim=f"{root}/examples/seed_sim.py:step", whole=False,
-                                           trajectories=None, law=None), [scene])
+    simulator = load_simulator(f"{root}/examples/seed_sim.py:step")
+    config = RunConfig(tmp_path / "out", jobs=1, cache=cache_on.where)
     scene_only = {(pages, "run_csv"), (scenario, "custom_balance"), (scenario, "mujoco_balance"),
                   (scenario, "reference_balance")}
     calls = []
@@ -133,16 +130,15 @@ def test_a_users_rerun_computes_only_what_depends_on_their_simulator(cache_on, t
     files = []
     for run in ("first", "second"):
         calls.clear()
-        before = store.counts()["misses"]
         (tmp_path / run).mkdir()
-        outcome = run_one(scene, str(tmp_path / run), simulator)
+        outcome = run_one(scene, str(tmp_path / run), simulator, config)
         assert outcome.row is not None, outcome
         files.append({p.name: p.read_bytes() for p in (tmp_path / run / scene.name).glob("*.csv")})
         if run == "first":
             assert sorted(calls) == sorted(["run_csv", "run_csv", "custom_balance", "mujoco_balance",
                                             "reference_balance"]), calls
-            assert store.counts()["misses"] > before
+            assert outcome.row["cache"]["misses"] > 0, outcome.row["cache"]
     assert calls == [], f"the second run computed scene-only work again: {calls}"
-    assert store.counts()["misses"] == before, "the second run computed scene-only work again"
+    assert outcome.row["cache"]["misses"] == 0, "the second run computed scene-only work again"
     assert sorted(files[0]) == ["trajectory_custom.csv", "trajectory_mujoco.csv", "trajectory_user.csv"]
     assert files[0] == files[1]

@@ -36,11 +36,11 @@ NON_FINITE = "non-finite"
 
 def reference_states(scene, times: np.ndarray, cache_dir: str | None):
     """(states (T, 6) at `times`, "") or (None, why) when the reference cannot follow the motion."""
-    from ...oracle.reference import ReferenceError, cached_reference
+    from ...oracle.reference import ReferenceFailed, cached_reference
 
     try:
         return cached_reference(scene, times, cache_dir).states, ""
-    except ReferenceError as exc:
+    except ReferenceFailed as exc:
         return None, f"no reference: {exc}"
 
 

@@ -14,7 +14,7 @@ import pytest
 from scipy.optimize import brentq
 
 from compare.oracle.force_law import EPS, Law, accelerations
-from compare.oracle.reference import (Equations, ReferenceError, cached_reference, energy, initial_mode,
+from compare.oracle.reference import (Equations, ReferenceFailed, cached_reference, energy, initial_mode,
                                       right_hand_side, solve_reference)
 from compare.scenarios import load, load_builtins
 from compare.diagnosis.mistakes import BY_NAME, applicable
@@ -409,7 +409,7 @@ def test_sign_friction_two_corners_stuck_is_not_judged():
     that would hold both is ill-posed, and the reference stops there, saying so, with the time."""
     scene = with_law(load("box_slide"), friction_law="sign")
     stop = scene.initial.velocity[0] / (MU * scene.g)
-    with pytest.raises(ReferenceError, match="stuck at once") as caught:
+    with pytest.raises(ReferenceFailed, match="stuck at once") as caught:
         solve_reference(scene, np.linspace(0.0, scene.duration, 11))
     assert stop < caught.value.t < scene.duration
     ref = solve_reference(scene, np.linspace(0.0, 0.99 * caught.value.t, 101))
@@ -422,11 +422,11 @@ def test_sign_friction_two_corners_stuck_is_not_judged():
 
 def balance(scene, points=20001):
     """(max |E - E(0) + W| J, smallest W J) over the reference at `points` times; where the
-    reference stops (ReferenceError), over the stretch before it."""
+    reference stops (ReferenceFailed), over the stretch before it."""
     duration = scene.duration
     try:
         ref = solve_reference(scene, np.linspace(0.0, duration, points))
-    except ReferenceError as exc:
+    except ReferenceFailed as exc:
         assert exc.t and exc.t > 0.1 * duration, str(exc)
         ref = solve_reference(scene, np.linspace(0.0, 0.99 * exc.t, points))
     eq = Equations.from_scene(scene)
