@@ -9,5 +9,5 @@ from .state import STATE_COMPONENTS, STATE_UNITS, UNIT_OF
 from .trajectory import Trajectory, csv_text, read_csv, write_csv
 
 __all__ = ["BadInput", "Body", "Contact", "CsvError", "DAMPING_LAWS", "Diverged", "FRICTION_LAWS", "ROLL_LAWS",
-           "STATE_COMPONENTS", "STATE_UNITS", "Scene", "SceneError", "Trajectory", "UNIT_OF", "is_seed_law", "law_text", "load_scene", "parse_scene",
-           "csv_text", "read_csv", "write_csv"]
+           "STATE_COMPONENTS", "STATE_UNITS", "Scene", "SceneError", "Trajectory", "UNIT_OF", "is_seed_law", "law_text",
+           "load_scene", "parse_scene", "csv_text", "read_csv", "write_csv"]

@@ -55,7 +55,7 @@ def test_every_consumer_takes_the_components_from_scene_types():
     assert base.STATE == "[x, y, theta, vx, vy, omega]"
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _nodes(path: Path) -> tuple:
     """Every node of a module's syntax tree (parsed once for the tests that read them)."""
     return tuple(ast.walk(ast.parse(path.read_text(encoding="utf-8"))))

@@ -16,6 +16,8 @@ import time
 
 import numpy as np
 
+from scene_types.state import STATE_COMPONENTS
+
 from ..table import text
 
 # The budget one scene's designed identification is held to, for a step of STEP_US (s).
@@ -94,7 +96,7 @@ def time_run(repeat: int = 3) -> tuple[float, float, dict]:
     with tempfile.TemporaryDirectory() as tmp:
         t = np.arange(len(states)) * scene.dt
         np.savetxt(Path(tmp) / "box_drop.csv", np.column_stack([t, states]), delimiter=",",
-                   header="t,x,y,theta,vx,vy,omega", comments="", fmt="%.17g")
+                   header=",".join(("t", *STATE_COMPONENTS)), comments="", fmt="%.17g")
         run = load_simulator(trajectories=tmp).run(scene)
     times, cpu = [], []
     for _ in range(repeat):

@@ -24,6 +24,8 @@ from matplotlib.font_manager import FontProperties  # noqa: E402
 from matplotlib.transforms import ScaledTranslation  # noqa: E402
 from matplotlib.ticker import FuncFormatter, LogLocator, MaxNLocator, NullLocator  # noqa: E402
 
+from scene_types.state import STATE_COMPONENTS, UNIT_OF  # noqa: E402
+
 from .png import write_rgb  # noqa: E402
 
 DPI = 100   # 800 pixels across the 8-inch figures: 10-point text stays sharp
@@ -150,8 +152,8 @@ def _snapshots():
 
 
 # The residual figure's panels, in its axes' order (rows of positions | velocities).
-RESIDUAL_PANELS = ("x", "vx", "y", "vy", "theta", "omega")
-RESIDUAL_UNITS = {"x": "m", "y": "m", "theta": "rad", "vx": "m/s", "vy": "m/s", "omega": "rad/s"}
+RESIDUAL_PANELS = tuple(c for pair in zip(STATE_COMPONENTS[:3], STATE_COMPONENTS[3:]) for c in pair)
+RESIDUAL_UNITS = UNIT_OF
 
 
 def _residuals():
