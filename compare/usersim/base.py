@@ -39,12 +39,13 @@ class UserRun:
 OTHER = "other:"   # INTEGRATOR = "other:ode23": an integrator the harness does not know, on purpose
 
 
-def declared_integrator(value, where: str, scene: Scene) -> str:
+def declared_integrator(value, where: str, default: str) -> str:
     """The integrator a simulator declares (`where` names the field): one the harness knows,
     "other:NAME" on purpose, or None for the scene's. Anything else is bad input naming the
-    closest known name: a misspelling must not turn the integrator's checks off."""
+    closest known name: a misspelling must not turn the integrator's checks off. default: the
+    scene's integrator, for a simulator that declares none."""
     if value is None:
-        return scene.integrator
+        return default
     if not isinstance(value, str):
         raise UserCodeError(f"{where}: expected a string naming an integrator, got {value!r}")
     if value in INTEGRATORS or (value.startswith(OTHER) and value[len(OTHER):].strip()):
@@ -79,8 +80,8 @@ def _check_initial(z0: np.ndarray, scene: Scene, where: str) -> None:
 
 
 class _Simulator:
-    """What every way in answers: run(scene) -> UserRun, integrator_for(scene), and for the
-    report: name, integrator (of the scene last run), diagnose(scene, trajectory).
+    """What every way in answers: run(scene) -> UserRun, integrator_for(scene), skip_reason(scene),
+    close(), and for the report: name, integrator (of the scene last run).
 
     reruns: whether it can run a scene it was not given files for (a variant the harness
     derives, e.g. friction switched off): True for functions, False for a folder of CSVs."""
@@ -93,6 +94,14 @@ class _Simulator:
     @property
     def name(self) -> str:
         return self.label
+
+    def integrator_for(self, scene: Scene) -> str:
+        """The integrator the simulator runs `scene` with: the one it declares, else the scene's."""
+        raise NotImplementedError
+
+    def _run(self, scene: Scene) -> UserRun:
+        """One run of `scene` by the user's code (each way in has its own)."""
+        raise NotImplementedError
 
     @property
     def integrator(self) -> str | None:

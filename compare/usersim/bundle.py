@@ -103,9 +103,12 @@ class _Shipped:
     """A user's function imported from its shipped copy: the spec the user gave in every message,
     the copy's path for the import."""
 
+    spec: str
+    signature: str
+
     def __init__(self, spec: str, local: str):
         self.local = local
-        super().__init__(spec)
+        super().__init__(spec)  # type: ignore[call-arg]  # a mixin: the function class after it takes spec
 
     def fresh(self) -> None:
         self.function, self.module = load_function(self.local, self.signature)

@@ -150,7 +150,7 @@ class TrajectoryFiles(_Simulator):
         return (TrajectoryFiles, (str(self.folder),))
 
     def integrator_for(self, scene: Scene) -> str:
-        return declared_integrator(self._declared, f"{self.folder / 'simulator.toml'}: integrator", scene)
+        return declared_integrator(self._declared, f"{self.folder / 'simulator.toml'}: integrator", scene.integrator)
 
     def path(self, scene: Scene) -> Path:
         return self.folder / f"{scene.name}.csv"

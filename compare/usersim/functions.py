@@ -215,7 +215,7 @@ class _Function(_Simulator):
         return (type(self), (self.spec,))
 
     def integrator_for(self, scene: Scene) -> str:
-        return declared_integrator(getattr(self.module, "INTEGRATOR", None), f"{self.spec}: INTEGRATOR", scene)
+        return declared_integrator(getattr(self.module, "INTEGRATOR", None), f"{self.spec}: INTEGRATOR", scene.integrator)
 
     def fresh(self) -> None:
         """Import the module again: a new module state, as at the start of a run."""

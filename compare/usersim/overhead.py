@@ -17,6 +17,7 @@ example, examples/process/step.c) on the scene.
 from __future__ import annotations
 
 import dataclasses
+import math
 import resource
 import shlex
 import shutil
@@ -94,7 +95,8 @@ def print_overhead(spec: str | None = None, scene_name: str = "box_drop", steps:
               f"in the harness {r['harness_s_per_step'] * 1e9:7.0f} ns/step, "
               f"harness adds {r['overhead_s_per_step'] * 1e9:6.0f} ns/step")
     sim = StepFunction(spec)
-    run = min((sim.run(scene) for _ in range(3)), key=lambda r: r.wall_time)
+    run = min((sim.run(scene) for _ in range(3)), key=lambda r: r.wall_time or math.inf)
+    assert run.wall_time is not None   # a function's run is timed
     print(f"{spec} on {scene.name} ({scene.integrator}), {scene.steps} steps: "
           f"{run.wall_time / scene.steps * 1e6:.1f} us/step, {run.wall_time:.2f} s for the run")
     trip = print_round_trip(scene, process)
@@ -121,7 +123,7 @@ def measure_round_trip(scene, command: str, repeats: int = 5) -> dict:
     """Seconds per step of Process(command).run(scene): wall (the fastest of repeats), and the
     CPU time of the harness and of the process in that run."""
     from .process import Process
-    best = None
+    best: tuple[float, float, float] | None = None
     for _ in range(repeats):
         sim = Process(command)
         before, cpu = resource.getrusage(resource.RUSAGE_CHILDREN), time.process_time()
@@ -129,8 +131,10 @@ def measure_round_trip(scene, command: str, repeats: int = 5) -> dict:
         cpu = time.process_time() - cpu
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
         child = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+        assert wall is not None   # a process's run is timed
         if best is None or wall < best[0]:
             best = (wall, cpu, child)
+    assert best is not None, "repeats >= 1"
     n = scene.steps
     return {"wall_s_per_step": best[0] / n, "harness_cpu_s_per_step": best[1] / n,
             "process_cpu_s_per_step": best[2] / n}

@@ -103,6 +103,7 @@ class _Pipe:
         except OSError as exc:
             self.stderr.close()
             raise UserCodeError(f"{where}: cannot start {argv[0]}: {exc.strerror or exc}") from None
+        assert self.proc.stdin is not None and self.proc.stdout is not None   # both piped above
         self.fd_in, self.fd_out = self.proc.stdin.fileno(), self.proc.stdout.fileno()
         self.poller = select.poll()
         self.poller.register(self.fd_out, select.POLLIN)
@@ -180,7 +181,8 @@ class _Pipe:
         the parent's."""
         for stream in (self.proc.stdin, self.proc.stdout):
             try:
-                stream.close()
+                if stream is not None:
+                    stream.close()
             except OSError:
                 pass
         if self.owner != os.getpid():
@@ -200,7 +202,7 @@ def _end(pipe_holder: list) -> None:
         pipe_holder[0] = None
 
 
-_LIVE = weakref.WeakSet()   # every Process of this interpreter
+_LIVE: weakref.WeakSet = weakref.WeakSet()   # every Process of this interpreter
 
 
 def _forked() -> None:
@@ -224,13 +226,13 @@ class Process(StepFunction):
         self.timeout, self.start_timeout = float(timeout), float(start_timeout)
         self.where = f"--sim-process {command!r}"
         self.argv = _argv(command)
-        self._holder = [None]                 # the running _Pipe (a list: the finalizer holds it, not self)
+        self._holder: list[_Pipe | None] = [None]   # the running _Pipe (a list: the finalizer holds it, not self)
         self._finalizer = weakref.finalize(self, _end, self._holder)
-        self._answers = {}                    # scene JSON -> ("ready", integrator) | ("skip", reason)
-        self._told = None                     # the scene JSON the running process was told last
-        self._told_dict = None                # ... and the dict it came from (compared by identity first)
+        self._answers: dict[str, tuple] = {}  # scene JSON -> ("ready", integrator) | ("skip", reason)
+        self._told: str | None = None         # the scene JSON the running process was told last
+        self._told_dict: dict | None = None   # ... and the dict it came from (compared by identity first)
         self._steps = 0                       # step requests since that scene line
-        self._skip = None                     # the reason, when the process skips the scene it was told
+        self._skip: str | None = None         # the reason, when the process skips the scene it was told
         _LIVE.add(self)
 
     @property
@@ -318,7 +320,7 @@ class Process(StepFunction):
         self._told, self._told_dict, self._steps = text, sd, 0
         self._skip = answer[1] if answer[0] == "skip" else None
         if answer[0] == "ready" and answer[1] != "scene":
-            declared_integrator(answer[1], f"{self.where}: ready", _Named(sd))
+            declared_integrator(answer[1], f"{self.where}: ready", sd.get("integrator", ""))
         return answer
 
     def _step(self, state, sd: dict, dt: float) -> list:
@@ -331,6 +333,7 @@ class Process(StepFunction):
             if text != self._told:
                 self._tell(sd, text)
             self._told_dict, pipe = sd, self._holder[0]
+        assert pipe is not None   # started by _pipe() above
         if self._skip is not None:
             raise NotImplementedError(self._skip)
         self._steps += 1
@@ -377,15 +380,8 @@ class Process(StepFunction):
             except ProcessFault as exc:
                 answer = ("fault", str(exc))
         if answer[0] == "ready" and answer[1] != "scene":
-            return declared_integrator(answer[1], f"{self.where}: ready", scene)
+            return declared_integrator(answer[1], f"{self.where}: ready", scene.integrator)
         return scene.integrator
-
-
-class _Named:
-    """What declared_integrator reads of a scene (its integrator), from a scene dict."""
-
-    def __init__(self, sd: dict):
-        self.integrator = sd.get("integrator")
 
 
 def _number(word: bytes) -> bool:

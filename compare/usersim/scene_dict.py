@@ -14,13 +14,13 @@ def _body(scene: Scene) -> dict:
     b = scene.body
     out = {"shape": b.shape, "mass": b.mass}
     if b.shape == "box":
-        out["size"] = list(b.size)
+        out["size"] = list(b.of_shape("size"))
     elif b.shape == "circle":
         out["radius"] = b.radius
     elif b.shape == "point":
         out["contact_height"] = b.contact_height
     else:
-        out["parts"] = [{"size": list(p.size), "offset": list(p.offset), "mass": p.mass} for p in b.parts]
+        out["parts"] = [{"size": list(p.size), "offset": list(p.offset), "mass": p.mass} for p in b.of_shape("parts")]
     return out
 
 
