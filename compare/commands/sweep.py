@@ -74,7 +74,7 @@ def user_simulator(args, scenes):
 
     from ..usersim import UserFault, load_simulator, preflight
 
-    simulator = load_simulator(args.sim, args.whole, process=args.sim_process)
+    simulator = load_simulator(args.sim, args.whole, process=getattr(args, "sim_process", None))
     if simulator is not None:
         preflight(simulator, scenes)
     if getattr(args, "law", None):
