@@ -19,6 +19,8 @@ from . import plots
 from ..checks.law_difference import judged_law_words, law_lines
 from ..checks.step_check import first_over
 from ..checks.row import CheckRow
+from ..checks.status import Status
+from ..checks.summary import Summary, read_summary
 from ..checks.result import Result, metrics_json, skipped_json
 from ..table import DASH, markdown, number
 
@@ -264,11 +266,11 @@ def _event_rows(ev_c: dict, ev_m: dict) -> list[list[str]]:
     return rows + [["final pose x, y, theta", pose(ev_c["final_pose"]), pose(ev_m["final_pose"])]]
 
 
-def _status_cell(row: dict, failed: str) -> str:
-    status = row.get("status", "pass" if row["pass"] else "FAIL")
-    if status == "FAIL":
-        return "**FAIL**: " + failed
-    return "**not judged**" if status == "not judged" else status
+def _status_cell(summary: Summary) -> str:
+    status = summary.status
+    if status is Status.FAILED:
+        return "**FAIL**: " + ", ".join(summary.failed_checks)
+    return "**not judged**" if status is Status.NOT_JUDGED else status.value
 
 
 INDEX_HEADERS = ["scenario", "simulator", "body", "integrator", "dt (s)", "pos. max (m)", "pos. RMS (m)",
@@ -292,14 +294,13 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
     for r in rows:
         own = r["energy_balance"][r.get("simulator", "custom_sim")]
         twin = r["energy_balance"]["mujoco"]
-        failed = ", ".join(r.get("failed_checks", []))
         ran = r.get("integrator_under_test", r["integrator"])
         table.append([f"[{r['name']}]({r['name']}/index.md)", r.get("simulator", "custom_sim"), r["shape"],
                       ran if ran == r["integrator"] else f"{ran} (the scene's: {r['integrator']})", f"{r['dt']:g}",
                       *map(_num, (r["position_error_max"], r["position_error_rms"], r["angle_error_max"],
                                   own["residual_end"], sum(own["dissipated"].values()), twin["residual_end"],
                                   r["wall_time_custom"], r["wall_time_mujoco"])),
-                      _status_cell(r, failed)])
+                      _status_cell(read_summary(r))])
     table += [[f"[{name}]({name}/index.md)" if status == "skipped" else name, *[""] * 12, f"**{status}**: {why}"]
               for name, status, why in failures]
     lines += markdown(INDEX_HEADERS, table).splitlines()

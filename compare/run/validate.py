@@ -5,14 +5,15 @@ Per scene: the scenario's own pipeline (compare/run/scenario.py: the runs collec
 the registry's checks) with the checks that need neither MuJoCo nor the converged reference:
 `identical` (against custom_sim, same integrator and dt, to round-off) and `step` (every step
 against one independent step) in their columns, the others (`energy`, `ground`) on a line below
-where they fail; and the diagnosis. Exit status 0 when every judged check
-passes and at least one was judged, 1 otherwise (every scene skipped is nothing judged).
+where they fail; and the diagnosis. The exit status is `run`'s (compare/checks/status.py
+exit_status): 0 when every scene not skipped passed, and there was one; 1 otherwise.
 """
 from __future__ import annotations
 
 import sys
 
-from ..checks.step_check import UNIT_OF
+from ..checks.status import Status, exit_status, of_rows
+from ..checks.summary import StepFailure
 
 
 def _cell(row) -> str:
@@ -20,9 +21,9 @@ def _cell(row) -> str:
     if row.passed is None:
         return "not judged"
     word = "pass" if row.passed else "FAIL"
-    d = row.details
-    if not row.passed and d.get("first_residual") is not None:   # step: the component over round-off
-        return f"{word} {d['component']} {d['first_residual']:.2e} / {d['first_bound']:.2e} {UNIT_OF[d['component']]}"
+    failure = StepFailure.of(row)
+    if not row.passed and failure is not None:   # step: the component over round-off
+        return f"{word} {failure.component} {failure.residual:.2e} / {failure.bound:.2e} {failure.unit}"
     return f"{word} {row.position_error_max:.2e} m / {row.tolerance_position:.2e} m"
 
 
@@ -50,7 +51,7 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
     if law:
         from .law import under_law
         scenes = under_law(scenes, law, sim)
-    ok, judged, skipped = True, 0, 0
+    statuses = []
     print(f"{'scene':<16} {'identical':<36} {'step':<36} diagnosis")
     for scene in scenes:
         result = Result(scene)
@@ -58,10 +59,10 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
             runs = collect_runs(result, Case(scene), sim)
         except SceneSkipped as exc:   # a scene the code does not do: never judged, fails nothing
             print(f"{scene.name:<16} skipped  {exc.reason}")
-            skipped += 1
+            statuses.append(Status.SKIPPED)
             continue
         except UserFault as exc:   # this scene's fault: its line, the others still judged
-            ok = False
+            statuses.append(Status.ERROR)
             print(f"{scene.name:<16} error: {exc}")
             if exc.details:   # its traceback, under its scene's name
                 sys.stdout.flush()
@@ -73,16 +74,15 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
         by_name = {row.name: row for row in rows}
         same, step = by_name["identical"], by_name["step"]
         diag = diagnose(sim, scene, runs.under_test, probe=runs.keeps_state is None, step_row=step)
-        ok &= all(row.passed is not False for row in rows)
-        judged += sum(row.passed is not None for row in rows)
+        statuses.append(of_rows(rows))
         print(f"{scene.name:<16} {_cell(same):<36} {_cell(step):<36} {diag['verdict']}")
         for row in rows:
             if row.name not in ("identical", "step") and row.passed is False:
                 print(f"{'':<16} {row.label} FAIL: {row.reason}")
         if markdown:
             print("\n" + render_markdown(diag) + "\n")
-    if skipped == len(scenes):
+    if all(s is Status.SKIPPED for s in statuses):
         print("nothing judged: your simulator skipped every scene (see each line)")
-    elif not judged:
+    elif all(s in (Status.SKIPPED, Status.NOT_JUDGED) for s in statuses):
         print("nothing judged: no scene had a check this command can judge (see each line)")
-    return 0 if ok and judged else 1
+    return exit_status(statuses)
