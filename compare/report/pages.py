@@ -20,7 +20,7 @@ from ..checks.law_difference import judged_law_words, law_lines
 from ..checks.step_check import first_over
 from ..checks.row import CheckRow
 from ..checks.status import Status
-from ..checks.summary import Summary, read_summary
+from ..checks.summary import StepFailure, Summary, read_summary
 from ..checks.result import Result, metrics_json, skipped_json
 from ..table import DASH, markdown, number
 
@@ -194,8 +194,9 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
     if result.warnings:
         lines.append("")
     lines += ["## Checks", "", f"The simulator under test is **{result.simulator}**.", ""]
-    lines += checks_table(result)
-    lines += ["", "## The scene", "", *markdown(["", ""], [
+    lines += verdicts_table(result)
+    lines += ["", *folded("What each check isolates, and why it is judged as it is", checks_table(result))]
+    lines += ["## The scene", "", *markdown(["", ""], [
         ["body", f"{scene.body.shape}, {_num(scene.body.mass, ' kg')}"],
         ["effects", ", ".join(scene.effects) or "none"],
         ["contact", f"k = {_num(scene.contact.k, ' N/m')}, c = {_num(scene.contact.c, ' N s/m')}, "
@@ -215,7 +216,7 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
     lines += ["## Trajectories", ""] + _image(figures, "states") + _image(figures, "path") + _image(figures, "snapshots")
     if figures.get("residuals"):
         lines += ["## One step against the independent step", ""] + _image(figures, "residuals")
-    lines += [
+    below = [
         "## Difference to MuJoCo's own contact, and energy",
         "",
         *_image(figures, "error"),
@@ -239,14 +240,34 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         rows.append([f"{mapping}{' (scene)' if mapping == scene.mujoco.solref else ''}",
                      _num(row["position_error_max"], " m"), _num(row["position_error_rms"], " m"),
                      _num(row["angle_error_max"], " rad"), _num(row["energy_drift_mujoco"], " J")])
-    lines += markdown(["mapping", "max position difference", "RMS", "max angle difference", "MuJoCo energy drift"],
+    below += markdown(["mapping", "max position difference", "RMS", "max angle difference", "MuJoCo energy drift"],
                       rows).splitlines()
-    lines += [""] + attribution_section(result.attribution)
-    lines += ["Every way the twin is built differently:", ""]
-    for note in twin.meta.get("approximations", []):
-        lines.append(f"- {note}")
-    lines.append("")
+    below += [""] + attribution_section(result.attribution)
+    below += ["Every way the twin is built differently:", ""]
+    below += [f"- {note}" for note in twin.meta.get("approximations", [])]
+    lines += folded("Against MuJoCo's own contact: the difference, the energy, the events, the solref mappings "
+                    "and why the two differ", below)
     return "\n".join(lines)
+
+
+def folded(summary: str, lines: list[str]) -> list[str]:
+    """Lines folded under a one-line summary (an HTML details block: markdown renders inside it)."""
+    return ["<details>", f"<summary>{summary}</summary>", "", *lines, "", "</details>", ""]
+
+
+def verdicts_table(result: Result) -> list[str]:
+    """The checks in short: each one's largest difference, tolerance and verdict (a failure with
+    where it first failed); what each isolates and why, in the folded table below."""
+    rows = []
+    for c in result.checks:
+        diff = (f"{_num(c.position_error_max, ' m')}, {_num(c.angle_error_max, ' rad')}"
+                if c.position_error_max is not None else DASH)
+        tol = (f"{_num(c.tolerance_position, ' m')}, {_num(c.tolerance_angle, ' rad')}"
+               if c.tolerance_position is not None else DASH)
+        failure = StepFailure.of(c) if c.passed is False else None
+        where = f": {failure.over()} at step {failure.step}" if failure is not None else ""
+        rows.append([c.label, diff, tol, _verdict(c.passed) + where])
+    return markdown(["check", "largest difference", "tolerance", "verdict"], rows).splitlines()
 
 
 def _event_rows(ev_c: dict, ev_m: dict) -> list[list[str]]:

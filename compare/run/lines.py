@@ -1,5 +1,6 @@
 """What `run` prints: one line per scenario that ran (pass, FAIL with each failed check's
-component and value in m, rad or per step, or not judged), and one line on the cache."""
+component and value in m, rad or per step, or not judged), at most LINE_LIMIT characters (the
+rest is on the scene's page), and one line on the cache."""
 from __future__ import annotations
 
 from ..checks.summary import StepFailure, read_summary
@@ -9,12 +10,18 @@ def _number(value, unit: str) -> str:
     return "–" if value is None else f"{value:.3e} {unit}"
 
 
-def failure_text(check) -> str:
-    """What a failed check (a CheckRow) measured: the component and value that left the tolerance."""
-    label, d = check.label, check.details
+# characters: a verdict line at most this long; what it cannot hold is on the scene's page
+LINE_LIMIT = 160
+SEE = " (see the page)"
+
+
+def failure_parts(check) -> list[str]:
+    """What a failed check (a CheckRow) measured, clause by clause: each quantity that left its
+    tolerance, where it first did, and what else the check found."""
+    d = check.details
     failure = StepFailure.of(check)
     if failure is not None:   # step: per component, per step
-        return f"{label}: {failure.describe()}"
+        return [failure.describe()]
     parts = []
     pos, tol_p = check.position_error_max, check.tolerance_position
     ang, tol_a = check.angle_error_max, check.tolerance_angle
@@ -28,7 +35,35 @@ def failure_text(check) -> str:
         parts.append(f"your step applied a horizontal force with friction off (step {d['horizontal_force']['step']})")
     if not parts:   # failed on something else (a non-finite state, ...): its reason says what
         parts.append(check.reason or f"position {_number(pos, 'm')}, angle {_number(ang, 'rad')}")
-    return f"{label}: " + ", ".join(parts)
+    return parts
+
+
+def failure_text(check) -> str:
+    """What a failed check (a CheckRow) measured: the component and value that left the tolerance."""
+    return f"{check.label}: " + ", ".join(failure_parts(check))
+
+
+def short_failure(check) -> str:
+    """A failed check in a few words: its first clause (a step failure without its phase)."""
+    failure = StepFailure.of(check)
+    first = (f"{failure.over()} at step {failure.step} (t = {failure.time:.6g} s)" if failure is not None
+             else failure_parts(check)[0])
+    return f"{check.label}: {first}"
+
+
+def fail_line(head: str, failed: list) -> str:
+    """head, then the failed checks in at most LINE_LIMIT characters: each in full where all
+    fit; else the first in a few words and the others named; else their names alone."""
+    full = head + "; ".join(failure_text(c) for c in failed)
+    if len(full) <= LINE_LIMIT:
+        return full
+    first, others = short_failure(failed[0]), failed[1:]
+    for tail in ((f"; also {', '.join(c.name for c in others)}{SEE}" if others else SEE),
+                 f"; {len(others)} more{SEE}"):
+        if len(head + first + tail) <= LINE_LIMIT:
+            return head + first + tail
+    names = head + ", ".join(c.label for c in failed)
+    return (names if len(names) + len(SEE) <= LINE_LIMIT else names[:LINE_LIMIT - len(SEE) - 3] + "...") + SEE
 
 
 def verdict_line(summary) -> str:
@@ -48,7 +83,7 @@ def verdict_line(summary) -> str:
     if s.passed:
         return (f"{name:<20} pass{under}" if law else
                 f"{name:<20} pass  {len(s.judged)} checks within tolerance{note}")
-    return f"{name:<20} FAIL{under}  " + "; ".join(failure_text(c) for c in s.checks if c.passed is False)
+    return fail_line(f"{name:<20} FAIL{under}  ", [c for c in s.checks if c.passed is False])
 
 
 def law_line(text: str) -> str:

@@ -52,3 +52,38 @@ def test_validate_fails_a_body_that_falls_through_the_ground_on_its_own_line(tmp
     printed = capsys.readouterr().out
     assert code == 1
     assert re.search(r"^ +ground \(semi_implicit_euler\) FAIL: the body sank through the ground: at step \d+ ", printed, re.M), printed
+
+
+# A user's step whose state turns NaN at its 5th call.
+TURNS_NAN = '''
+CALLS = [0]
+
+def step(state, scene, dt):
+    CALLS[0] += 1
+    x, y, th, vx, vy, om = (float(v) for v in state)
+    if CALLS[0] >= 5:
+        return [x, float("nan"), th, vx, vy, om]
+    vy -= scene["g"] * dt
+    return [x + dt * vx, y + dt * vy, th + dt * om, vx, vy, om]
+'''
+
+
+def test_the_run_under_test_is_validated_once_where_it_is_collected(tmp_path):
+    """A run that turns NaN never reaches a check: the scenario is unstable at that step, with
+    no row; and no check but step (whose finite prefix serves the diagnosis's probes, states
+    that are not the run under test) tests its states for finite numbers again."""
+    import numpy as np
+    import pytest
+    from compare.run.scenario import valid_states
+
+    (tmp_path / "nan_sim.py").write_text(TURNS_NAN)
+    scene = dataclasses.replace(load("point_drop"), duration=0.01)
+    result = run_scenario(scene, load_simulator(f"{tmp_path / 'nan_sim.py'}:step"))
+    assert result.checks == [] and "returned a non-finite state" in result.error and " at step 5 " in result.error
+    states = np.zeros((scene.steps + 1, 6))
+    states[37, 1] = np.nan
+    with pytest.raises(RuntimeError, match="a run to judge has shape"):
+        valid_states(scene, states)
+    again = [p.name for p in sorted((ROOT / "compare" / "checks").glob("*_check.py"))
+             if "isfinite" in p.read_text() and p.name != "step_check.py"]
+    assert again == [], again
