@@ -65,6 +65,16 @@ class Summary:
     failed_checks: tuple[str, ...] = ()              # labels
     cache_hits: int | None = None                    # scene-only runs from the cache (None: not counted)
     cache_misses: int | None = None
+    shape: str = ""                                  # the body's
+    integrator: str = ""                             # the scene's
+    integrator_under_test: str = ""                  # the one the simulator under test ran
+    dt: float = 0.0                                  # s
+    position_error_max: float | None = None          # m, against MuJoCo's own contact
+    position_error_rms: float | None = None          # m
+    angle_error_max: float | None = None             # rad
+    wall_time_custom: float | None = None            # s, the simulator under test's stepping
+    wall_time_mujoco: float | None = None            # s
+    energy_balance: Mapping[str, Any] = field(default_factory=dict)   # run -> its balance (E, W, R)
     row: Mapping[str, Any] = field(default_factory=dict, compare=False, repr=False)   # the metrics.json dict
 
     @property
@@ -92,4 +102,8 @@ def read_summary(row: Mapping[str, Any]) -> Summary:
                    row.get("simulator", "custom_sim"), row.get("law"), row.get("diagnosis"),
                    tuple(row.get("warnings", ())), tuple(row.get("failed_checks", ())),
                    None if cache is None else cache["hits"], None if cache is None else cache["misses"],
+                   row.get("shape", ""), row.get("integrator", ""),
+                   row.get("integrator_under_test", row.get("integrator", "")), row.get("dt", 0.0),
+                   row.get("position_error_max"), row.get("position_error_rms"), row.get("angle_error_max"),
+                   row.get("wall_time_custom"), row.get("wall_time_mujoco"), row.get("energy_balance", {}),
                    MappingProxyType(dict(row)))

@@ -17,8 +17,6 @@ from ..checks import metrics
 from ..store import cached
 from . import plots
 from ..checks.law_difference import judged_law_words, law_lines
-from ..checks.step_check import first_over
-from ..checks.row import CheckRow
 from ..checks.status import Status
 from ..checks.summary import StepFailure, Summary, read_summary
 from ..checks.result import Result, metrics_json, skipped_json
@@ -122,9 +120,8 @@ def checks_table(result: Result) -> list[str]:
                if c.tolerance_position is not None else DASH)
         reason = c.reason.removeprefix("not judged: ") if c.passed is None else c.reason
         note = "" if c.passed else f" ({reason})"
-        d = c.details
-        where = f"; first at step {d['first_step']} ({d.get('phase', '')}): {first_over(c)}" \
-            if c.passed is False and d.get("first_step") is not None else ""
+        failure = StepFailure.of(c) if c.passed is False else None
+        where = f"; first at step {failure.step} ({failure.phase}): {failure.over()}" if failure is not None else ""
         rows.append([c.label, c.isolates, diff, tol, f"{_verdict(c.passed)}{note}{where}"])
     return markdown(["check", "what it isolates", "largest difference", "tolerance", "verdict"], rows).splitlines()
 
@@ -312,29 +309,29 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
         "",
     ]
     table = []
-    for r in rows:
-        own = r["energy_balance"][r.get("simulator", "custom_sim")]
-        twin = r["energy_balance"]["mujoco"]
-        ran = r.get("integrator_under_test", r["integrator"])
-        table.append([f"[{r['name']}]({r['name']}/index.md)", r.get("simulator", "custom_sim"), r["shape"],
-                      ran if ran == r["integrator"] else f"{ran} (the scene's: {r['integrator']})", f"{r['dt']:g}",
-                      *map(_num, (r["position_error_max"], r["position_error_rms"], r["angle_error_max"],
+    summaries = [read_summary(r) for r in rows]
+    for r in summaries:
+        own, twin = r.energy_balance[r.simulator], r.energy_balance["mujoco"]
+        ran = r.integrator_under_test
+        table.append([f"[{r.name}]({r.name}/index.md)", r.simulator, r.shape,
+                      ran if ran == r.integrator else f"{ran} (the scene's: {r.integrator})", f"{r.dt:g}",
+                      *map(_num, (r.position_error_max, r.position_error_rms, r.angle_error_max,
                                   own["residual_end"], sum(own["dissipated"].values()), twin["residual_end"],
-                                  r["wall_time_custom"], r["wall_time_mujoco"])),
-                      _status_cell(read_summary(r))])
+                                  r.wall_time_custom, r.wall_time_mujoco)),
+                      _status_cell(r)])
     table += [[f"[{name}]({name}/index.md)" if status == "skipped" else name, *[""] * 12, f"**{status}**: {why}"]
               for name, status, why in failures]
     lines += markdown(INDEX_HEADERS, table).splitlines()
-    laws = [(r["name"], judged_law_words(r.get("law"))) for r in rows]
+    laws = [(r.name, judged_law_words(r.law)) for r in summaries]
     if any(words for _, words in laws):
         lines += ["", "## The law judged", "",
                   "Where a scenario was judged under another law than its scene's (`run --law`), each effect "
                   "that differs, with the parameters that differ:", ""]
         lines += [f"- [{name}]({name}/index.md): judged under {words}" for name, words in laws if words]
     lines += ["", "## Every judged check", ""]
-    checks = [[r["name"], c.label, *map(_num, (c.position_error_max, c.tolerance_position, c.angle_error_max,
-                                               c.tolerance_angle)), _verdict(c.passed) + _step_failure(c)]
-              for r in rows for c in map(CheckRow.from_json, r["checks"]) if c.passed is not None]
+    checks = [[r.name, c.label, *map(_num, (c.position_error_max, c.tolerance_position, c.angle_error_max,
+                                            c.tolerance_angle)), _verdict(c.passed) + _step_failure(c)]
+              for r in summaries for c in r.checks if c.passed is not None]
     lines += markdown(["scenario", "check", "largest position difference (m)", "tolerance (m)",
                        "largest angle difference (rad)", "tolerance (rad)", "verdict"], checks).splitlines()
     lines.append("")
@@ -344,8 +341,8 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
 def _step_failure(check) -> str:
     """What a failed step row's position and angle columns cannot show: the component over
     round-off (a velocity, when the force is wrong)."""
-    d = check.details
-    return f": {first_over(check)} at step {d['first_step']}" if check.passed is False and d.get("first_residual") is not None else ""
+    failure = StepFailure.of(check) if check.passed is False else None
+    return f": {failure.over()} at step {failure.step}" if failure is not None else ""
 
 
 def write_index(out: Path, rows: list[dict], failures: list[tuple[str, str]]) -> Path:
