@@ -12,9 +12,10 @@ A check (one per registry line, compare/checks/registry.py) keeps to four rules:
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Mapping, Protocol
+from typing import Protocol
 
 from custom_sim import Scene, Trajectory
 
@@ -67,8 +68,8 @@ class Runs:
     @cached_property
     def twins(self) -> Twins:
         """MuJoCo's twins, the scene's own mapping first (computed on first use, once)."""
-        from mujoco_models import MujocoDiverged
         from custom_sim import SimulationDiverged
+        from mujoco_models import MujocoDiverged
         from scene_types.schema import SOLREF_MAPPINGS
 
         from . import metrics

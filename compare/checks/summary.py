@@ -6,9 +6,10 @@ the exit status read (attributes, never the file's keys), and a failed step type
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any, Mapping
+from typing import Any
 
 from .result import SHOWN
 from .row import CheckRow

@@ -16,13 +16,14 @@ import numpy as np
 
 from custom_sim import INTEGRATORS, Scene, SimulationDiverged, Trajectory, stable_step
 
-from ..store import cached
 from ..checks.case import Case
 from ..checks.check import Runs
 from ..checks.registry import CHECKS
-from ..checks.row import CheckRow
 from ..checks.result import CUSTOM, Result
+from ..checks.row import CheckRow
 from ..diagnosis import diagnose
+from ..store import cached
+
 
 def custom_runs(case: Case) -> dict:
     """custom_sim with each of the four integrators at the scene's dt: a Trajectory, or the
@@ -193,8 +194,8 @@ def reference_balance(case: Case):
     """The converged reference's balance, its work integrated with the motion (None without a
     reference, or a reference that carries no work)."""
     from ..energy.balance import Balance
-    from ..energy.terms import energy
     from ..energy.law import body_of
+    from ..energy.terms import energy
     from ..oracle.reference import ReferenceError as NoReference
     try:
         ref = case.reference()

@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from custom_sim import mass_properties, simulate
-from custom_sim.runner import ENERGY_FLOOR, ENERGY_GROWTH_LIMIT
 from compare.checks.ground_check import ground_row
 from compare.scenarios import load
+from custom_sim import mass_properties, simulate
+from custom_sim.runner import ENERGY_FLOOR, ENERGY_GROWTH_LIMIT
 
 
 def free_fall(scene):

@@ -51,7 +51,7 @@ def test_validate_fails_a_body_that_falls_through_the_ground_on_its_own_line(tmp
     code = main(["validate", f"{tmp_path / 'forgot.py'}:step", str(scene)])
     printed = capsys.readouterr().out
     assert code == 1
-    assert re.search(r"^ +ground \(semi_implicit_euler\) FAIL: the body sank through the ground: at step \d+ ", printed, re.M), printed
+    assert re.search(r"^ +ground \(semi_implicit_euler\) FAIL: the body sank through the ground: at step \d+ ", printed, re.MULTILINE), printed
 
 
 # A user's step whose state turns NaN at its 5th call.
@@ -74,6 +74,7 @@ def test_the_run_under_test_is_validated_once_where_it_is_collected(tmp_path):
     that are not the run under test) tests its states for finite numbers again."""
     import numpy as np
     import pytest
+
     from compare.run.scenario import valid_states
 
     (tmp_path / "nan_sim.py").write_text(TURNS_NAN)

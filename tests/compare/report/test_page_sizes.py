@@ -19,7 +19,7 @@ def short_file(tmp_path, builtin: str, duration: float) -> str:
 
 
 def unfolded(page: str) -> str:
-    return re.sub(r"<details>.*?</details>", "", page, flags=re.S)
+    return re.sub(r"<details>.*?</details>", "", page, flags=re.DOTALL)
 
 
 def test_a_passing_page_and_a_failing_line_are_short(tmp_path, capsys):
