@@ -42,7 +42,7 @@ class SceneJudgement:
         diagnosis = Diagnosis.from_json(s.diagnosis)
         lines = (verdict_line(s), *(law_line(text) for text in (diagnosis.laws if diagnosis else ())))
         warnings = tuple(w if w.startswith(f"{s.name}:") else f"{s.name}: {w}" for w in s.warnings)
-        return cls(s.name, s.status, tuple(Check.from_row(c.to_json()) for c in s.checks), diagnosis, lines, "",
+        return cls(s.name, s.status, tuple(Check.of(c) for c in s.checks), diagnosis, lines, "",
                    warnings, metrics=MappingProxyType(row))
 
     @classmethod
