@@ -6,11 +6,6 @@ from types import MappingProxyType
 from typing import Any
 from collections.abc import Mapping
 
-# the two measured quantities of a row (metrics.json keys) and their units
-QUANTITIES = (("position", "position_error_max", "tolerance_position", "m"),
-              ("angle", "angle_error_max", "tolerance_angle", "rad"))
-
-
 @dataclass(frozen=True)
 class Check:
     """A check's row: `difference` is the largest of what it measured, in `unit`, the quantity
@@ -36,25 +31,29 @@ class Check:
     def from_row(cls, row: dict) -> Check:
         """The check of a metrics.json `checks` row."""
         from ..checks.row import CheckRow
+        return cls.of(CheckRow.from_json(row))
+
+    @classmethod
+    def of(cls, row) -> Check:
+        """The check of a CheckRow (compare/checks/row.py), read by attribute."""
         from ..run.lines import failure_text
 
-        quantity, _, _, unit = _largest(row)
-        value_key, tolerance_key = next((v, t) for q, v, t, _ in QUANTITIES if q == quantity)
-        passed = row.get("pass")
-        return cls(row["name"], row.get("integrator"), passed, row.get(value_key), row.get(tolerance_key), unit,
-                   quantity, row.get("reason", ""),
-                   failure_text(CheckRow.from_json(row)) if passed is False else "", MappingProxyType(dict(row)))
+        quantity, value, tolerance, unit = _largest(row)
+        return cls(row.name, row.integrator, row.passed, value, tolerance, unit, quantity, row.reason,
+                   failure_text(row) if row.passed is False else "", MappingProxyType(row.to_json()))
 
 
-def _largest(row: dict) -> tuple:
-    """The quantity of a row to report: the one with the largest share of its tolerance; without
-    tolerances, the position when it was measured."""
+def _largest(row) -> tuple:
+    """(quantity, value, tolerance, unit) of a CheckRow to report: the quantity with the largest
+    share of its tolerance; without tolerances, the position when it was measured."""
+    measured = (("position", row.position_error_max, row.tolerance_position, "m"),
+                ("angle", row.angle_error_max, row.tolerance_angle, "rad"))
+
     def share(q):
-        _, value_key, tolerance_key, _ = q
-        value, tolerance = row.get(value_key), row.get(tolerance_key)
+        quantity, value, tolerance, _ = q
         if value is None:
             return -2.0
         if not tolerance:
-            return -1.0 if q[0] == "position" else -1.5
+            return -1.0 if quantity == "position" else -1.5
         return value / tolerance
-    return max(QUANTITIES, key=share)
+    return max(measured, key=share)

@@ -36,15 +36,15 @@ class SceneJudgement:
     @classmethod
     def from_row(cls, row: dict) -> SceneJudgement:
         """A scene that reached a verdict, from its metrics.json."""
+        from ..checks.summary import read_summary
         from ..run.lines import law_line, verdict_line
 
-        diagnosis = Diagnosis.from_json(row.get("diagnosis"))
-        lines = (verdict_line(row), *(law_line(text) for text in (diagnosis.laws if diagnosis else ())))
-        name = row["name"]
-        warnings = tuple(w if w.startswith(f"{name}:") else f"{name}: {w}" for w in row.get("warnings", []))
-        return cls(name, Status.of(row.get("status") or ("pass" if row["pass"] else "FAIL")),
-                   tuple(Check.from_row(c) for c in row["checks"]), diagnosis, lines, "", warnings,
-                   metrics=MappingProxyType(row))
+        s = read_summary(row)
+        diagnosis = Diagnosis.from_json(s.diagnosis)
+        lines = (verdict_line(s), *(law_line(text) for text in (diagnosis.laws if diagnosis else ())))
+        warnings = tuple(w if w.startswith(f"{s.name}:") else f"{s.name}: {w}" for w in s.warnings)
+        return cls(s.name, s.status, tuple(Check.of(c) for c in s.checks), diagnosis, lines, "",
+                   warnings, metrics=MappingProxyType(row))
 
     @classmethod
     def no_verdict(cls, name: str, status: str, why: str) -> SceneJudgement:

@@ -1,34 +1,7 @@
-"""A scenario's status, as `run`'s rows name it, and the exit status of a whole judgement."""
+"""A scenario's status and the exit status of a whole judgement: compare/checks/status.py's,
+named here for the API."""
 from __future__ import annotations
 
-from enum import Enum
+from ..checks.status import Status, exit_status
 
-
-class Status(str, Enum):
-    """What became of one scene; the value is the word metrics.json and the verdict line use."""
-
-    PASSED = "pass"              # every judged check within its tolerance
-    FAILED = "FAIL"              # a judged check outside it
-    NOT_JUDGED = "not judged"    # it ran, but no check could be judged
-    ERROR = "error"              # the code under test (or the harness) failed on it: no verdict
-    UNSTABLE = "unstable"        # the run diverged or chattered: no verdict
-    TIMEOUT = "timeout"          # stopped after --timeout s
-    SKIPPED = "skipped"          # the code does not do this scene (SHAPES, NotImplementedError)
-
-    @classmethod
-    def of(cls, word: str) -> Status:
-        """The status a row names; a word this version does not know is an error (never a pass)."""
-        try:
-            return cls(word)
-        except ValueError:
-            return cls.ERROR
-
-    def __str__(self) -> str:
-        return self.value
-
-
-def exit_status(statuses) -> int:
-    """The exit status of a judgement: 0 when every scene not skipped passed and at least one was
-    not skipped; 1 otherwise (a failed check, no verdict, nothing judged, everything skipped)."""
-    judged = [s for s in statuses if s is not Status.SKIPPED]
-    return 0 if judged and all(s is Status.PASSED for s in judged) else 1
+__all__ = ["Status", "exit_status"]

@@ -16,6 +16,7 @@ from custom_sim import Scene, Trajectory
 from . import events, metrics
 from .case import Case
 from .row import CheckRow
+from .status import Status, of_rows
 
 CUSTOM = "custom_sim"
 SHOWN = ("reference", "native")    # checks that are shown, not judged, by design
@@ -66,14 +67,12 @@ class Result:
         return [c for c in self.checks if c.passed is None and c.name not in SHOWN]
 
     @property
-    def status(self) -> str:
+    def status(self) -> Status:
         if self.skipped:
-            return "skipped"
+            return Status.SKIPPED
         if self.error:
-            return "unstable" if self.unstable else "error"
-        if not self.judged:
-            return "not judged"
-        return "pass" if self.passed else "FAIL"
+            return Status.UNSTABLE if self.unstable else Status.ERROR
+        return of_rows(self.checks)
 
 
 def metrics_json(result: Result) -> dict:
@@ -103,7 +102,7 @@ def metrics_json(result: Result) -> dict:
         # ours
         "simulator": result.simulator,
         "integrator_under_test": tested.integrator,
-        "status": result.status,
+        "status": result.status.value,
         "not_judged": [c.label for c in result.not_judged],
         "failed_checks": [c.label for c in result.failed],
         "warnings": result.warnings,
@@ -139,7 +138,7 @@ def skipped_json(result: Result) -> dict:
     reason; no check (none was judged, nothing ran)."""
     scene = result.scene
     return {"name": scene.name, "integrator": scene.integrator, "dt": scene.dt, "steps": scene.steps,
-            "status": "skipped", "skipped": result.skipped, "pass": None, "checks": [],
+            "status": Status.SKIPPED.value, "skipped": result.skipped, "pass": None, "checks": [],
             "simulator": result.simulator, "description": scene.description, "shape": scene.body.shape,
             "effects": list(scene.effects), "law": {"from": scene.law_from or "scene",
                                                     "judged": dataclasses.asdict(scene.contact)}}

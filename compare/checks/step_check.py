@@ -303,18 +303,19 @@ def _unstepped(integrator: str | None, details: dict, reason: str, passed: bool 
 def first_failure(row: CheckRow) -> str:
     """Where a step check's row first fails, in one clause: the first step over round-off (its
     time, phase, and the component off, by how much), or the first state that is not finite."""
-    d = row.details
-    if d.get("first_step") is None:
-        return f"state {d.get('nonfinite_step')} is not finite (every step before it within round-off)"
-    return f"first step over round-off: {d['first_step']} (t = {d['first_time']:.6g} s), {d['phase']}, {first_over(row)}"
+    from .summary import StepFailure
+
+    failure = StepFailure.of(row)
+    if failure is None:
+        return f"state {row.details.get('nonfinite_step')} is not finite (every step before it within round-off)"
+    return f"first step over round-off: {failure.step} (t = {failure.time:.6g} s), {failure.phase}, {failure.over()}"
 
 
 def first_over(row: CheckRow) -> str:
     """A failed step row's first component over round-off, in its own unit (a mistake in a
     force moves the velocities first: positions follow a step later)."""
-    d = row.details
-    unit = UNIT_OF[d["component"]]
-    return f"{d['component']} off by {d['first_residual']:.3e} {unit} (round-off {d['first_bound']:.3e} {unit})"
+    from .summary import StepFailure
+    return StepFailure.of(row).over()
 
 
 def largest_residual(row: CheckRow) -> str:

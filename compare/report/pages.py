@@ -18,8 +18,8 @@ from ..checks import metrics
 from ..store import cached
 from . import plots
 from ..checks.law_difference import judged_law_words, law_lines
-from ..checks.step_check import first_over
-from ..checks.row import CheckRow
+from ..checks.status import Status
+from ..checks.summary import StepFailure, Summary, read_summary
 from ..checks.result import Result, metrics_json, skipped_json
 from ..table import DASH, markdown, number
 
@@ -121,9 +121,8 @@ def checks_table(result: Result) -> list[str]:
                if c.tolerance_position is not None else DASH)
         reason = c.reason.removeprefix("not judged: ") if c.passed is None else c.reason
         note = "" if c.passed else f" ({reason})"
-        d = c.details
-        where = f"; first at step {d['first_step']} ({d.get('phase', '')}): {first_over(c)}" \
-            if c.passed is False and d.get("first_step") is not None else ""
+        failure = StepFailure.of(c) if c.passed is False else None
+        where = f"; first at step {failure.step} ({failure.phase}): {failure.over()}" if failure is not None else ""
         rows.append([c.label, c.isolates, diff, tol, f"{_verdict(c.passed)}{note}{where}"])
     return markdown(["check", "what it isolates", "largest difference", "tolerance", "verdict"], rows).splitlines()
 
@@ -193,8 +192,9 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
     if result.warnings:
         lines.append("")
     lines += ["## Checks", "", f"The simulator under test is **{result.simulator}**.", ""]
-    lines += checks_table(result)
-    lines += ["", "## The scene", "", *markdown(["", ""], [
+    lines += verdicts_table(result)
+    lines += ["", *folded("What each check isolates, and why it is judged as it is", checks_table(result))]
+    lines += ["## The scene", "", *markdown(["", ""], [
         ["body", f"{scene.body.shape}, {_num(scene.body.mass, ' kg')}"],
         ["effects", ", ".join(scene.effects) or "none"],
         ["contact", f"k = {_num(scene.contact.k, ' N/m')}, c = {_num(scene.contact.c, ' N s/m')}, "
@@ -214,7 +214,7 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
     lines += ["## Trajectories", ""] + _image(figures, "states") + _image(figures, "path") + _image(figures, "snapshots")
     if figures.get("residuals"):
         lines += ["## One step against the independent step", ""] + _image(figures, "residuals")
-    lines += [
+    below = [
         "## Difference to MuJoCo's own contact, and energy",
         "",
         *_image(figures, "error"),
@@ -238,14 +238,34 @@ def scenario_page(result: Result, data: dict, figures: dict) -> str:
         rows.append([f"{mapping}{' (scene)' if mapping == scene.mujoco.solref else ''}",
                      _num(row["position_error_max"], " m"), _num(row["position_error_rms"], " m"),
                      _num(row["angle_error_max"], " rad"), _num(row["energy_drift_mujoco"], " J")])
-    lines += markdown(["mapping", "max position difference", "RMS", "max angle difference", "MuJoCo energy drift"],
+    below += markdown(["mapping", "max position difference", "RMS", "max angle difference", "MuJoCo energy drift"],
                       rows).splitlines()
-    lines += [""] + attribution_section(result.attribution)
-    lines += ["Every way the twin is built differently:", ""]
-    for note in twin.meta.get("approximations", []):
-        lines.append(f"- {note}")
-    lines.append("")
+    below += [""] + attribution_section(result.attribution)
+    below += ["Every way the twin is built differently:", ""]
+    below += [f"- {note}" for note in twin.meta.get("approximations", [])]
+    lines += folded("Against MuJoCo's own contact: the difference, the energy, the events, the solref mappings "
+                    "and why the two differ", below)
     return "\n".join(lines)
+
+
+def folded(summary: str, lines: list[str]) -> list[str]:
+    """Lines folded under a one-line summary (an HTML details block: markdown renders inside it)."""
+    return ["<details>", f"<summary>{summary}</summary>", "", *lines, "", "</details>", ""]
+
+
+def verdicts_table(result: Result) -> list[str]:
+    """The checks in short: each one's largest difference, tolerance and verdict (a failure with
+    where it first failed); what each isolates and why, in the folded table below."""
+    rows = []
+    for c in result.checks:
+        diff = (f"{_num(c.position_error_max, ' m')}, {_num(c.angle_error_max, ' rad')}"
+                if c.position_error_max is not None else DASH)
+        tol = (f"{_num(c.tolerance_position, ' m')}, {_num(c.tolerance_angle, ' rad')}"
+               if c.tolerance_position is not None else DASH)
+        failure = StepFailure.of(c) if c.passed is False else None
+        where = f": {failure.over()} at step {failure.step}" if failure is not None else ""
+        rows.append([c.label, diff, tol, _verdict(c.passed) + where])
+    return markdown(["check", "largest difference", "tolerance", "verdict"], rows).splitlines()
 
 
 def _event_rows(ev_c: dict, ev_m: dict) -> list[list[str]]:
@@ -265,11 +285,11 @@ def _event_rows(ev_c: dict, ev_m: dict) -> list[list[str]]:
     return rows + [["final pose x, y, theta", pose(ev_c["final_pose"]), pose(ev_m["final_pose"])]]
 
 
-def _status_cell(row: dict, failed: str) -> str:
-    status = row.get("status", "pass" if row["pass"] else "FAIL")
-    if status == "FAIL":
-        return "**FAIL**: " + failed
-    return "**not judged**" if status == "not judged" else status
+def _status_cell(summary: Summary) -> str:
+    status = summary.status
+    if status is Status.FAILED:
+        return "**FAIL**: " + ", ".join(summary.failed_checks)
+    return "**not judged**" if status is Status.NOT_JUDGED else status.value
 
 
 INDEX_HEADERS = ["scenario", "simulator", "body", "integrator", "dt (s)", "pos. max (m)", "pos. RMS (m)",
@@ -290,30 +310,29 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
         "",
     ]
     table = []
-    for r in rows:
-        own = r["energy_balance"][r.get("simulator", "custom_sim")]
-        twin = r["energy_balance"]["mujoco"]
-        failed = ", ".join(r.get("failed_checks", []))
-        ran = r.get("integrator_under_test", r["integrator"])
-        table.append([f"[{r['name']}]({r['name']}/index.md)", r.get("simulator", "custom_sim"), r["shape"],
-                      ran if ran == r["integrator"] else f"{ran} (the scene's: {r['integrator']})", f"{r['dt']:g}",
-                      *map(_num, (r["position_error_max"], r["position_error_rms"], r["angle_error_max"],
+    summaries = [read_summary(r) for r in rows]
+    for r in summaries:
+        own, twin = r.energy_balance[r.simulator], r.energy_balance["mujoco"]
+        ran = r.integrator_under_test
+        table.append([f"[{r.name}]({r.name}/index.md)", r.simulator, r.shape,
+                      ran if ran == r.integrator else f"{ran} (the scene's: {r.integrator})", f"{r.dt:g}",
+                      *map(_num, (r.position_error_max, r.position_error_rms, r.angle_error_max,
                                   own["residual_end"], sum(own["dissipated"].values()), twin["residual_end"],
-                                  r["wall_time_custom"], r["wall_time_mujoco"])),
-                      _status_cell(r, failed)])
+                                  r.wall_time_custom, r.wall_time_mujoco)),
+                      _status_cell(r)])
     table += [[f"[{name}]({name}/index.md)" if status == "skipped" else name, *[""] * 12, f"**{status}**: {why}"]
               for name, status, why in failures]
     lines += markdown(INDEX_HEADERS, table).splitlines()
-    laws = [(r["name"], judged_law_words(r.get("law"))) for r in rows]
+    laws = [(r.name, judged_law_words(r.law)) for r in summaries]
     if any(words for _, words in laws):
         lines += ["", "## The law judged", "",
                   "Where a scenario was judged under another law than its scene's (`run --law`), each effect "
                   "that differs, with the parameters that differ:", ""]
         lines += [f"- [{name}]({name}/index.md): judged under {words}" for name, words in laws if words]
     lines += ["", "## Every judged check", ""]
-    checks = [[r["name"], c.label, *map(_num, (c.position_error_max, c.tolerance_position, c.angle_error_max,
-                                               c.tolerance_angle)), _verdict(c.passed) + _step_failure(c)]
-              for r in rows for c in map(CheckRow.from_json, r["checks"]) if c.passed is not None]
+    checks = [[r.name, c.label, *map(_num, (c.position_error_max, c.tolerance_position, c.angle_error_max,
+                                            c.tolerance_angle)), _verdict(c.passed) + _step_failure(c)]
+              for r in summaries for c in r.checks if c.passed is not None]
     lines += markdown(["scenario", "check", "largest position difference (m)", "tolerance (m)",
                        "largest angle difference (rad)", "tolerance (rad)", "verdict"], checks).splitlines()
     lines.append("")
@@ -323,10 +342,8 @@ def index_page(rows: list[dict], failures: list[tuple[str, str, str]]) -> str:
 def _step_failure(check) -> str:
     """What a failed step row's position and angle columns cannot show: the component over
     round-off (a velocity, when the force is wrong)."""
-    d = check.details
-    if check.passed is False and d.get("first_residual") is not None:
-        return f": {first_over(check)} at step {d['first_step']}"
-    return ""
+    failure = StepFailure.of(check) if check.passed is False else None
+    return f": {failure.over()} at step {failure.step}" if failure is not None else ""
 
 
 def write_index(out: Path, rows: list[dict], failures: list[tuple[str, str]]) -> Path:

@@ -38,7 +38,7 @@ def run_one(scene, out: str, simulator=None, config=None):
                 write_skipped(result, Path(out))
                 return Outcome(failure=("skipped", result.skipped))
             if result.error:
-                return Outcome(failure=(result.status, result.error), details=result.error_details)
+                return Outcome(failure=(result.status.value, result.error), details=result.error_details)
             row = write_scenario(result, Path(out), to_mjcf(scene))
         return Outcome(row={**row, "cache": cache.counts()})
     except UserCodeError as exc:

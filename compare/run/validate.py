@@ -1,15 +1,19 @@
 """Hold a simulator to the checks that need no MuJoCo, and print its diagnosis (writes nothing):
 the command `python -m compare validate` (compare/commands/validate.py).
 
-Per scene: `identical` (against custom_sim, same integrator and dt, to round-off), `step` (every
-step against one independent step) and the diagnosis. Exit status 0 when every judged check
-passes and at least one was judged, 1 otherwise (every scene skipped is nothing judged).
+Per scene: the scenario's own pipeline (compare/run/scenario.py: the runs collected once, then
+the registry's checks) with the checks that need neither MuJoCo nor the converged reference:
+`identical` (against custom_sim, same integrator and dt, to round-off) and `step` (every step
+against one independent step) in their columns, the others (`energy`, `ground`) on a line below
+where they fail; and the diagnosis. The exit status is `run`'s (compare/checks/status.py
+exit_status): 0 when every scene not skipped passed, and there was one; 1 otherwise.
 """
 from __future__ import annotations
 
 import sys
 
-from ..checks.step_check import UNIT_OF
+from ..checks.status import Status, exit_status, of_rows
+from ..checks.summary import StepFailure
 
 
 def _cell(row) -> str:
@@ -17,9 +21,9 @@ def _cell(row) -> str:
     if row.passed is None:
         return "not judged"
     word = "pass" if row.passed else "FAIL"
-    d = row.details
-    if not row.passed and d.get("first_residual") is not None:   # step: the component over round-off
-        return f"{word} {d['component']} {d['first_residual']:.2e} / {d['first_bound']:.2e} {UNIT_OF[d['component']]}"
+    failure = StepFailure.of(row)
+    if not row.passed and failure is not None:   # step: the component over round-off
+        return f"{word} {failure.component} {failure.residual:.2e} / {failure.bound:.2e} {failure.unit}"
     return f"{word} {row.position_error_max:.2e} m / {row.tolerance_position:.2e} m"
 
 
@@ -29,12 +33,13 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
     scenes, under `law` (a law file, `identified`, or None: each scene's own): one line per scene
     (with markdown, its diagnosis in full); a scene the simulator skips is a line saying why, and
     fails nothing. The exit status."""
+    from ..checks.case import Case
+    from ..checks.registry import without
+    from ..checks.result import Result
     from ..scenarios import load_all
-    from ..checks.identical_check import check_identical
-    from ..checks.step_check import check_step
     from ..diagnosis import diagnose, render_markdown
-    from ..usersim import load_simulator, run_user
-    from ..usersim.purity import keeps_state
+    from ..usersim import load_simulator
+    from .scenario import collect_runs, judge
 
     from ..usersim import SceneSkipped, UserFault, preflight
 
@@ -46,36 +51,38 @@ def validate(spec: str | None, scenes: list[str], whole: bool = False, trajector
     if law:
         from .law import under_law
         scenes = under_law(scenes, law, sim)
-    ok, judged, skipped = True, 0, 0
+    statuses = []
     print(f"{'scene':<16} {'identical':<36} {'step':<36} diagnosis")
     for scene in scenes:
+        result = Result(scene)
         try:
-            traj = run_user(sim, scene)
+            runs = collect_runs(result, Case(scene), sim)
         except SceneSkipped as exc:   # a scene the code does not do: never judged, fails nothing
             print(f"{scene.name:<16} skipped  {exc.reason}")
-            skipped += 1
+            statuses.append(Status.SKIPPED)
             continue
         except UserFault as exc:   # this scene's fault: its line, the others still judged
-            ok = False
+            statuses.append(Status.ERROR)
             print(f"{scene.name:<16} error: {exc}")
             if exc.details:   # its traceback, under its scene's name
                 sys.stdout.flush()
                 print(f"{scene.name}: {exc.details}", file=sys.stderr)
             continue
-        states = traj.states()
-        same = check_identical(scene, states, traj.integrator, scene.dt, traj.meta["rounding"])
-        step = check_step(scene, states, traj.integrator, scene.dt, rounding=traj.meta["rounding"])
-        stateful = keeps_state(sim, scene, states)   # as `run` does: no probes of a step that keeps state
-        if stateful:
-            print(f"warning: {scene.name}: {stateful}", file=sys.stderr)
-        diag = diagnose(sim, scene, traj, probe=stateful is None, step_row=step)   # the file's rounding too
-        ok &= same.passed is not False and step.passed is not False
-        judged += (same.passed is not None) + (step.passed is not None)
+        for said in result.warnings:   # float32 states; a step that keeps state (then no probes, as `run`)
+            print(f"warning: {scene.name}: {said}", file=sys.stderr)
+        rows, _ = judge(runs, without("mujoco", "reference"))
+        by_name = {row.name: row for row in rows}
+        same, step = by_name["identical"], by_name["step"]
+        diag = diagnose(sim, scene, runs.under_test, probe=runs.keeps_state is None, step_row=step)
+        statuses.append(of_rows(rows))
         print(f"{scene.name:<16} {_cell(same):<36} {_cell(step):<36} {diag['verdict']}")
+        for row in rows:
+            if row.name not in ("identical", "step") and row.passed is False:
+                print(f"{'':<16} {row.label} FAIL: {row.reason}")
         if markdown:
             print("\n" + render_markdown(diag) + "\n")
-    if skipped == len(scenes):
+    if all(s is Status.SKIPPED for s in statuses):
         print("nothing judged: your simulator skipped every scene (see each line)")
-    elif not judged:
+    elif all(s in (Status.SKIPPED, Status.NOT_JUDGED) for s in statuses):
         print("nothing judged: no scene had a check this command can judge (see each line)")
-    return 0 if ok and judged else 1
+    return exit_status(statuses)

@@ -73,7 +73,7 @@ def test_a_function_object_passes_and_out_writes_the_report_run_writes(scene, tm
         sys.path.remove(str(ROOT / "examples"))
     judgement = compare.judge(seed_sim.step, [scene], out=tmp_path / "report", jobs=1)
     assert judgement.passed and judgement.exit_status == 0
-    assert judgement.lines == ("box_drop_short       pass  4 checks within tolerance",)
+    assert judgement.lines == ("box_drop_short       pass  5 checks within tolerance",)
     assert judgement.report == (tmp_path / "report" / "index.md").resolve()
     metrics = json.loads((tmp_path / "report" / "box_drop_short" / "metrics.json").read_text())
     assert metrics["status"] == judgement["box_drop_short"].status.value == "pass"

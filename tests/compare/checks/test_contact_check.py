@@ -124,15 +124,6 @@ def test_an_integrator_mujoco_lacks_adds_its_measured_difference():
     assert wrong.passed is False, wrong
 
 
-def test_states_that_blow_up_fail_with_the_step():
-    scene = short("point_drop", 0.3)
-    states = mistaken(contact_scene(scene))
-    states[500:] = np.nan
-    row = check_contact(scene, states)
-    assert row.passed is False and "step 500" in row.reason
-    assert row.details["first_exceeding_time"] == pytest.approx(500 * scene.dt)
-
-
 # The rule every judged tolerance obeys, written here on its own (not read from the checks): a
 # check whose cap is lifted (MOTION_SHARE = 10) judges with a tolerance above it, and fails here.
 A_TENTH = 0.1
@@ -201,7 +192,8 @@ def test_a_users_code_runs_again_only_for_a_variant_that_differs_from_the_scene(
 
     import compare.usersim as usersim
     from compare.checks.case import Case
-    from compare.run.scenario import contact_row
+    from compare.checks.check import Runs
+    from compare.checks.units import contact_row
 
     scene = dataclasses.replace(load(name), duration=0.6)
     assert (contact_scene(scene) == scene) == (runs == 0)
@@ -212,7 +204,7 @@ def test_a_users_code_runs_again_only_for_a_variant_that_differs_from_the_scene(
     calls = []
     real = usersim.run_user
     monkeypatch.setattr(usersim, "run_user", lambda sim, s: calls.append(s.name) or real(sim, s))
-    row = contact_row(case, sim, run)
+    row = contact_row(Runs(case, run, {run.integrator: run}, {}, sim))
     assert len(calls) == runs
     # the outsider applies friction whatever the effects say (box_drop's mu 0.5; elastic_bounce's vx
     # stays 0): the row tells so, the rest is check_contact's
@@ -243,14 +235,16 @@ def test_a_step_that_applies_friction_with_friction_off_is_told_so(tmp_path):
     first touching step by mu Fn tanh(alpha vx) dt / m."""
     import compare.usersim as usersim
     from compare.checks.case import Case
-    from compare.run.scenario import contact_row
+    from compare.checks.check import Runs
+    from compare.checks.units import contact_row
     from compare.run.lines import failure_text
 
     path = tmp_path / "friction_always.py"
     path.write_text(FRICTION_ALWAYS)
     sim = usersim.load_simulator(f"{path}:step")
     scene = dataclasses.replace(load("point_drop"), duration=0.4)
-    row = contact_row(Case(scene), sim, usersim.run_user(sim, scene))
+    run = usersim.run_user(sim, scene)
+    row = contact_row(Runs(Case(scene), run, {run.integrator: run}, {}, sim))
     applied = row.details["horizontal_force"]
     states = usersim.run_user(sim, contact_scene(scene)).states()
     first = int(np.flatnonzero(np.diff(states[:, 3]) != 0.0)[0])
