@@ -24,6 +24,7 @@ and rolling, and says so. The rungs with our friction inside MuJoCo use the dyna
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 
 import numpy as np
 
@@ -94,7 +95,7 @@ def _on_grid(states: np.ndarray, dt_from: float, dt_to: float, steps: int) -> np
     return np.column_stack([np.interp(t, t_from, states[:, j]) for j in range(6)])
 
 
-def rungs(scene: Scene, native_run=None, case=None) -> list[tuple[str, callable]]:
+def rungs(scene: Scene, native_run=None, case=None) -> list[tuple[str, Callable[[], np.ndarray]]]:
     """(name, run) of each rung; run() returns states at the scene's dt (steps + 1, 6).
     native_run: the native twin's Trajectory (penalty mapping) when already run; case: the
     scenario's Case, which runs each custom_sim variant once."""
@@ -146,7 +147,8 @@ def attribute(scene: Scene, native=None, case=None) -> list[dict]:
 
     case = as_case(scene, case)
     reference = case.states(scene, scene.integrator, scene.dt)
-    out, before = [], None
+    out: list[dict] = []
+    before: tuple[np.ndarray, dict] | None = None
     for name, run in rungs(scene, native, case):
         row = {"name": name, "cause": cause(name, scene), "measured": False, "note": "",
                "position_error_max": None, "angle_error_max": None, "share_position": None,

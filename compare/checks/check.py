@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Protocol
+from typing import Any, Protocol
 
 from custom_sim import Scene, Trajectory
 
@@ -53,7 +53,7 @@ class Runs:
     under_test: Trajectory
     tested: Mapping[str, Trajectory | str]     # integrator -> run judged, or its divergence text
     custom: Mapping[str, Trajectory | str]     # custom_sim by integrator: run or divergence text
-    simulator: object | None = None
+    simulator: Any = None                      # compare.usersim's simulator under test, or None
     keeps_state: str | None = field(default=None, compare=False)   # a step that depends on earlier calls
 
     @property
@@ -75,7 +75,8 @@ class Runs:
         from . import metrics
 
         own = self.scene.mujoco.solref
-        by_mapping, native = {}, None
+        by_mapping: dict[str, dict] = {}
+        native: Trajectory | None = None
         for mapping in (own,) + tuple(m for m in SOLREF_MAPPINGS if m != own):
             try:
                 twin = self.case.mujoco(mapping)

@@ -76,7 +76,7 @@ def check_dynamics(scene: Scene, states, integrator: str, dt: float, rounding=No
     `dt` by the simulator under test (docs/report-files.md). rounding: how the states were written to a
     file (one_step.Rounding), None for full double precision: its half unit of each value is
     added to the tolerance."""
-    details = {}
+    details: dict = {}
     if integrator not in MUJOCO_TWIN:
         return _row(integrator, details, f"not judged: MuJoCo has no {integrator.replace('_', ' ')} (its implicit "
                                          f"integrators leave passive forces out of their derivatives); check step "

@@ -91,5 +91,5 @@ def events(scene: Scene, traj: Trajectory) -> dict:
         "final_pose": {c: float(getattr(traj, c)[-1]) for c in POSE},
     }
     if scene.body.shape == "circle":
-        out["rolling_time"] = rolling_time(traj, scene.body.radius)
+        out["rolling_time"] = rolling_time(traj, scene.body.of_shape("radius"))
     return out

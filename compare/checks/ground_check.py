@@ -52,7 +52,7 @@ def ground_row(scene: Scene, states: np.ndarray, integrator: str | None) -> Chec
 class Ground:
     """No body falls through the ground (module docstring): the run under test's row."""
 
-    name, needs = "ground", frozenset()
+    name, needs = "ground", frozenset[str]()
 
     def applies(self, runs: Runs) -> bool:
         return runs.scene.has("contact") and runs.scene.has("gravity")

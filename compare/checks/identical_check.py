@@ -52,6 +52,7 @@ def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt
         rounding = rounding_of_values(states)
     elif isinstance(rounding, (int, np.integer)) and not isinstance(rounding, bool):
         rounding = Rounding("significant", int(rounding))
+    written: Rounding | None = rounding if isinstance(rounding, Rounding) else None
     if integrator not in INTEGRATORS:
         return _row(integrator, f"not judged: integrator {integrator!r} is not one custom_sim has "
                                 f"({', '.join(INTEGRATORS)}); the reference, dynamics and contact checks still apply")
@@ -75,13 +76,13 @@ def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt
     tol_p = envelope.position_t[rows].copy()
     tol_a = envelope.angle_t[rows].copy()
     said = ""
-    if rounding is not None:
+    if written is not None:
         # the written value is within a half unit of the simulator's own: of each value written
-        half = rounding.half_unit(states)
+        half = written.half_unit(states)
         rounded_p = np.hypot(half[:, 0], half[:, 1])
         tol_p = tol_p + rounded_p
         tol_a = tol_a + half[:, 2]
-        said = f"; plus the file's rounding at {rounding.describe()}"
+        said = f"; plus the file's rounding at {written.describe()}"
         from custom_sim import mass_properties
         props = mass_properties(scene.body)
         extent = float(np.max(np.hypot(props.points[:, 0], props.points[:, 1]))) if props.rotates else 0.0
@@ -90,7 +91,7 @@ def check_identical(scene: Scene, states: np.ndarray, integrator: str | None, dt
         within = not np.any((dpos > tol_p) | (dang > tol_a))
         if within and moved > ROUNDING_JUDGE_FRACTION * envelope.motion_size:
             return _row(integrator, position_error_max=float(dpos.max()), angle_error_max=float(dang.max()),
-                        reason=f"not judged: the file's rounding at {rounding.describe()} moves the body's "
+                        reason=f"not judged: the file's rounding at {written.describe()} moves the body's "
                                f"points by up to {moved:.2g} m, more than {ROUNDING_JUDGE_FRACTION:g} of the "
                                f"motion's size {envelope.motion_size:.3g} m, so a mistake could hide in it; "
                                "write more digits (%.17g keeps a double exactly)")

@@ -79,7 +79,8 @@ def metrics_json(result: Result) -> dict:
     """metrics.json: the keys docs/report-files.md promises, then ours."""
     from ..energy import metrics_block
 
-    scene, tested, twin = result.scene, result.under_test, result.mujoco
+    scene, tested, twin, custom = result.scene, result.under_test, result.mujoco, result.custom
+    assert tested is not None and twin is not None and custom is not None, "a verdict has its runs"
     m = result.metrics
     limit = result.stable_dt
     contact = next((c for c in result.checks if c.name == "contact"), None)
@@ -114,8 +115,8 @@ def metrics_json(result: Result) -> dict:
         "position_error_final": m["position_error_final"],
         "time_of_position_error_max": m["time_of_position_error_max"],
         "energy_initial": float(tested.energy[0]),
-        "force_evals_custom": result.custom.force_evals,
-        "newton_iterations_custom": result.custom.newton_iterations,
+        "force_evals_custom": custom.force_evals,
+        "newton_iterations_custom": custom.newton_iterations,
         "stable_dt_theory": None if limit == float("inf") else float(limit),
         "stable_dt_reason": result.stable_dt_reason,
         "dt_within_stability_limit": not result.warnings,

@@ -23,6 +23,7 @@ tolerance passes HORIZON_FRACTION of the motion's size, the rows from there on a
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from functools import cache, lru_cache
 
 import numpy as np
@@ -63,7 +64,7 @@ def _clear_stale_kernel() -> None:
     here = Path(__file__).resolve()
     sources = sorted(Path(custom_sim.__file__).resolve().parent.glob("*.py")) + [here]
     try:  # numba's folder for this file: __pycache__ beside it, or under NUMBA_CACHE_DIR
-        cache = Path(_euler_rounded._cache._cache_path)
+        cache = Path(_euler_rounded._cache._cache_path)  # type: ignore[attr-defined]  # numba types no _cache
     except Exception:  # another numba layout: its default, in-tree
         cache = here.parent / "__pycache__"
     clear_stale(cache, sources, "roundoff_numba_sources.sha256", "roundoff.*")
@@ -149,9 +150,11 @@ def _rk4_rounded(model, points, z, h, n, noise, out):
         _add_rounding(z, noise, i, out)
 
 
-_ROUNDED = {"explicit_euler": lambda *run: _euler_rounded(*run, False),
-            "semi_implicit_euler": lambda *run: _euler_rounded(*run, True),
-            "implicit_euler": _implicit_euler_rounded, "rk4": _rk4_rounded}
+# numba's Dispatcher is typed by its first signature only, hence the ignores on the Euler pair
+_ROUNDED: dict[str, Callable[..., None]] = {
+    "explicit_euler": lambda *run: _euler_rounded(*run, False),  # type: ignore[call-arg]
+    "semi_implicit_euler": lambda *run: _euler_rounded(*run, True),  # type: ignore[call-arg]
+    "implicit_euler": _implicit_euler_rounded, "rk4": _rk4_rounded}
 
 
 def _injected_run(scene: Scene, seed: int, implicit: bool) -> np.ndarray:

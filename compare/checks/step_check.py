@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from typing import Any
+
 import numpy as np
 
 from scene_types.state import STATE_COMPONENTS, STATE_UNITS, UNIT_OF
@@ -94,7 +96,7 @@ def step_residuals(eq: Equations, states: np.ndarray, integrator: str, dt: float
     return StepResiduals(residual, bound, no_root, jump_point, input_bound, open_steps)
 
 
-def _point_name(eq: Equations, i: int) -> str:
+def _point_name(eq: Equations, i: int | np.integer) -> str:
     lx, ly = (v + 0.0 for v in eq.points[i])   # + 0.0: a -0.0 (a point at the centre) says 0, not -0
     return f"{i} ({lx:+.3g}, {ly:+.3g})"
 
@@ -193,6 +195,7 @@ def _swamped(eq: Equations, states: np.ndarray, res: StepResiduals) -> list[str]
     """The moving components whose rounding allowance exceeds ROUNDING_JUDGE_FRACTION of their
     largest change per step."""
     change = np.abs(np.diff(states, axis=0)).max(axis=0)
+    assert res.input_bound is not None   # step_residuals fills it
     allowance = res.input_bound.max(axis=0)
     return [COMPONENTS[c] for c in _moving(eq, states) if allowance[c] > ROUNDING_JUDGE_FRACTION * change[c]]
 
@@ -219,7 +222,7 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
         input_rtol, rounding = 0.0, input_rtol
     rtol = float(input_rtol or 0.0) + (rounding.rtol if rounding else 0.0)
     atol = rounding.atol if rounding else 0.0
-    details = {"first_step": None, "first_time": None, "phase": None, "component": None, "residual_max": None}
+    details: dict = {"first_step": None, "first_time": None, "phase": None, "component": None, "residual_max": None}
     if integrator not in METHODS:
         return _unstepped(integrator, details, f"integrator {integrator!r} is not one the harness can step "
                                                f"(known: {', '.join(METHODS)}): not judged")
@@ -239,7 +242,7 @@ def check_step(scene, states, integrator: str | None, dt: float, law: Law = SEED
     over = res.over
     ratio = res.ratio()
     pos, ang = np.hypot(r[:, 0], r[:, 1]), r[:, 2]
-    measured = {"position_error_max": float(pos.max()), "angle_error_max": float(ang.max())}
+    measured: dict[str, Any] = {"position_error_max": float(pos.max()), "angle_error_max": float(ang.max())}
     tolerance = {"tolerance_position": float(np.hypot(b[:, 0], b[:, 1]).max()), "tolerance_angle": float(b[:, 2].max())}
     details.update(
         residual_max={c: float(v) for c, v in zip(COMPONENTS, r.max(axis=0))},
@@ -315,7 +318,8 @@ def first_over(row: CheckRow) -> str:
     """A failed step row's first component over round-off, in its own unit (a mistake in a
     force moves the velocities first: positions follow a step later)."""
     from .summary import StepFailure
-    return StepFailure.of(row).over()
+    failure = StepFailure.of(row)
+    return failure.over() if failure is not None else ""
 
 
 def largest_residual(row: CheckRow) -> str:

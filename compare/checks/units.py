@@ -26,7 +26,7 @@ def unstable_row(name: str, integrator: str, why: str) -> CheckRow:
 class Identical:
     """A user's run against custom_sim's, same integrator and dt (identical_check.py)."""
 
-    name, needs = "identical", frozenset()
+    name, needs = "identical", frozenset[str]()
 
     def applies(self, runs: Runs) -> bool:
         return runs.user
@@ -42,7 +42,7 @@ class Step:
     """Each run under test, step by step, against one independent step (step_check.py); its
     rows carry the per-step residuals and bounds for the plots."""
 
-    name, needs = "step", frozenset()
+    name, needs = "step", frozenset[str]()
 
     def applies(self, runs: Runs) -> bool:
         return True
@@ -225,7 +225,7 @@ class Energy:
     """Where the simulator under test reports its own energy (custom_sim; a user's 7th column or
     `energy` column), that it is the energy of its states (compare/energy/column.py)."""
 
-    name, needs = "energy", frozenset()
+    name, needs = "energy", frozenset[str]()
 
     def applies(self, runs: Runs) -> bool:
         return not runs.user or runs.under_test.meta.get("energy_source") == "user"
