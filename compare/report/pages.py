@@ -5,6 +5,7 @@ index.md is replaced in one step, so an interrupted run never leaves a half-writ
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 from pathlib import Path
@@ -41,12 +42,26 @@ def run_csv(case, which: str) -> str:
     return csv_text(run)
 
 
+@contextlib.contextmanager
+def scene_folder(out: Path, name: str):
+    """A hidden folder to write DIR/<name>/ into (the umask's permissions, not 0700), moved into
+    place whole when the block ends, or removed when it raises."""
+    tmp = temporary_folder(out, prefix=f".{name}.")
+    try:
+        yield tmp
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    final = out / name
+    if final.exists():
+        shutil.rmtree(final)
+    os.replace(tmp, final)
+
+
 def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
     """Write DIR/<name>/ for a scenario that ran; returns its metrics.json content."""
     scene = result.scene
-    final = out / scene.name
-    tmp = temporary_folder(out, prefix=f".{scene.name}.")   # the umask's permissions, not 0700
-    try:
+    with scene_folder(out, scene.name) as tmp:
         data = metrics_json(result)
         for which in ("custom", "mujoco"):
             (tmp / f"trajectory_{which}.csv").write_text(cached(run_csv)(result.case, which), encoding="utf-8")
@@ -68,12 +83,6 @@ def write_scenario(result: Result, out: Path, mjcf: str) -> dict:
         # listed under "non_finite": never NaN or Infinity, which is not JSON, and never a crash
         (tmp / "metrics.json").write_text(finite_json(data, indent=2) + "\n")
         (tmp / "index.md").write_text(scenario_page(result, data, figures))
-        if final.exists():
-            shutil.rmtree(final)
-        os.replace(tmp, final)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     return data
 
 
@@ -82,9 +91,7 @@ def write_skipped(result: Result, out: Path) -> dict:
     returns its metrics.json content."""
     scene = result.scene
     data = skipped_json(result)
-    final = out / scene.name
-    tmp = temporary_folder(out, prefix=f".{scene.name}.")
-    try:
+    with scene_folder(out, scene.name) as tmp:
         (tmp / "metrics.json").write_text(finite_json(data, indent=2) + "\n")
         (tmp / "index.md").write_text("\n".join([
             f"# {scene.name}", "", scene.description, "",
@@ -93,12 +100,6 @@ def write_skipped(result: Result, out: Path) -> dict:
             "none of its checks ran, and it fails nothing. A module says which bodies it does with "
             "`SHAPES = (\"box\", ...)`; a step says it does not do a scene by raising `NotImplementedError(\"why\")` "
             "(docs/validate-your-simulator.md).", ""]) + "\n")
-        if final.exists():
-            shutil.rmtree(final)
-        os.replace(tmp, final)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     return data
 
 
