@@ -74,10 +74,7 @@ class StepIdentification:
         self.law_scene = scene_law(scene, self.sd, self.geometry_scene)
 
     def run(self) -> dict:
-        try:
-            return self._run()
-        finally:
-            roundoff.set_single_precision(False)
+        return roundoff.in_own_context(self._run)
 
     def _run(self) -> dict:
         start = time.perf_counter()

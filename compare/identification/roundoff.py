@@ -1,6 +1,8 @@
 """How closely a step can reproduce a law: the named round-off tolerances and the bounds they give."""
 from __future__ import annotations
 
+import contextvars
+
 import numpy as np
 
 from .integrators import evaluated_at, rk4_step
@@ -35,7 +37,9 @@ FLOAT32_EPS = float(np.finfo(np.float32).eps)
 # Returned numbers that must differ from the state given before "every number a float32
 # value" says anything: a float64 step returns such numbers only where nothing moved.
 FLOAT32_MIN_CHANGED = 8
-_PRECISION = {"single": False}
+# float32 arithmetic found in the step under identification (set_single_precision): a context
+# variable, so that one scene's setting ends with its own identification (in_own_context)
+_SINGLE: contextvars.ContextVar[bool] = contextvars.ContextVar("single_precision", default=False)
 
 
 class SinglePrecision:
@@ -61,17 +65,23 @@ def is_float32(Z0: np.ndarray, Z1: np.ndarray) -> bool:
 
 
 def set_single_precision(on: bool) -> None:
-    """Hold every bound below to float32 (on) or float64 round-off, until set again."""
-    _PRECISION["single"] = bool(on)
+    """Hold every bound below to float32 (on) or float64 round-off, for the rest of the current
+    context (one identification, run by in_own_context)."""
+    _SINGLE.set(bool(on))
 
 
 def single_precision() -> bool:
-    return _PRECISION["single"]
+    return _SINGLE.get()
+
+
+def in_own_context(run):
+    """run() in a copy of the current context: the precision it sets ends with it."""
+    return contextvars.copy_context().run(run)
 
 
 def eps() -> float:
     """The unit round-off the step's arithmetic carries: float64's, or float32's."""
-    return FLOAT32_EPS if _PRECISION["single"] else EPS
+    return FLOAT32_EPS if _SINGLE.get() else EPS
 
 
 def inertias(law: Law) -> np.ndarray:

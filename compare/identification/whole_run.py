@@ -59,10 +59,7 @@ class RunIdentification:
         self._base = {}
 
     def run(self) -> dict:
-        try:
-            return self._run()
-        finally:
-            roundoff.set_single_precision(False)
+        return roundoff.in_own_context(self._run)
 
     def _run(self) -> dict:
         start = time.perf_counter()
